@@ -1,0 +1,224 @@
+#include "cl/runtime.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace shadelab {
+
+std::string cl_error_name(int code) {
+    switch (code) {
+#define SL_CASE(x) case x: return #x;
+        SL_CASE(CL_SUCCESS) SL_CASE(CL_DEVICE_NOT_FOUND) SL_CASE(CL_DEVICE_NOT_AVAILABLE)
+        SL_CASE(CL_COMPILER_NOT_AVAILABLE) SL_CASE(CL_MEM_OBJECT_ALLOCATION_FAILURE)
+        SL_CASE(CL_OUT_OF_RESOURCES) SL_CASE(CL_OUT_OF_HOST_MEMORY)
+        SL_CASE(CL_PROFILING_INFO_NOT_AVAILABLE) SL_CASE(CL_MEM_COPY_OVERLAP) SL_CASE(CL_IMAGE_FORMAT_MISMATCH)
+        SL_CASE(CL_IMAGE_FORMAT_NOT_SUPPORTED) SL_CASE(CL_BUILD_PROGRAM_FAILURE) SL_CASE(CL_MAP_FAILURE)
+        SL_CASE(CL_MISALIGNED_SUB_BUFFER_OFFSET) SL_CASE(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+        SL_CASE(CL_COMPILE_PROGRAM_FAILURE) SL_CASE(CL_LINKER_NOT_AVAILABLE) SL_CASE(CL_LINK_PROGRAM_FAILURE)
+        SL_CASE(CL_DEVICE_PARTITION_FAILED) SL_CASE(CL_KERNEL_ARG_INFO_NOT_AVAILABLE)
+        SL_CASE(CL_INVALID_VALUE) SL_CASE(CL_INVALID_DEVICE_TYPE) SL_CASE(CL_INVALID_PLATFORM)
+        SL_CASE(CL_INVALID_DEVICE) SL_CASE(CL_INVALID_CONTEXT) SL_CASE(CL_INVALID_QUEUE_PROPERTIES)
+        SL_CASE(CL_INVALID_COMMAND_QUEUE) SL_CASE(CL_INVALID_HOST_PTR) SL_CASE(CL_INVALID_MEM_OBJECT)
+        SL_CASE(CL_INVALID_IMAGE_FORMAT_DESCRIPTOR) SL_CASE(CL_INVALID_IMAGE_SIZE) SL_CASE(CL_INVALID_SAMPLER)
+        SL_CASE(CL_INVALID_BINARY) SL_CASE(CL_INVALID_BUILD_OPTIONS) SL_CASE(CL_INVALID_PROGRAM)
+        SL_CASE(CL_INVALID_PROGRAM_EXECUTABLE) SL_CASE(CL_INVALID_KERNEL_NAME)
+        SL_CASE(CL_INVALID_KERNEL_DEFINITION) SL_CASE(CL_INVALID_KERNEL) SL_CASE(CL_INVALID_ARG_INDEX)
+        SL_CASE(CL_INVALID_ARG_VALUE) SL_CASE(CL_INVALID_ARG_SIZE) SL_CASE(CL_INVALID_KERNEL_ARGS)
+        SL_CASE(CL_INVALID_WORK_DIMENSION) SL_CASE(CL_INVALID_WORK_GROUP_SIZE)
+        SL_CASE(CL_INVALID_WORK_ITEM_SIZE) SL_CASE(CL_INVALID_GLOBAL_OFFSET) SL_CASE(CL_INVALID_EVENT_WAIT_LIST)
+        SL_CASE(CL_INVALID_EVENT) SL_CASE(CL_INVALID_OPERATION) SL_CASE(CL_INVALID_GL_OBJECT)
+        SL_CASE(CL_INVALID_BUFFER_SIZE) SL_CASE(CL_INVALID_MIP_LEVEL) SL_CASE(CL_INVALID_GLOBAL_WORK_SIZE)
+        SL_CASE(CL_INVALID_PROPERTY) SL_CASE(CL_INVALID_IMAGE_DESCRIPTOR)
+        SL_CASE(CL_INVALID_COMPILER_OPTIONS) SL_CASE(CL_INVALID_LINKER_OPTIONS)
+        SL_CASE(CL_INVALID_DEVICE_PARTITION_COUNT)
+#undef SL_CASE
+        case -1001: return "CL_PLATFORM_NOT_FOUND_KHR";
+        default: return "CL_UNKNOWN_ERROR(" + std::to_string(code) + ")";
+    }
+}
+
+void rethrow_cl(const cl::Error& e, const std::string& what) {
+    throw Error(what + ": " + e.what() + " failed with " + cl_error_name(e.err()) + " (" +
+                std::to_string(e.err()) + ")");
+}
+
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+std::string env_or(const char* name, const std::string& fallback) {
+    const char* v = std::getenv(name);
+    return (v && *v) ? std::string(v) : fallback;
+}
+
+fs::path executable_dir() {
+    std::error_code ec;
+    fs::path p = fs::read_symlink("/proc/self/exe", ec);
+    return ec ? fs::path() : p.parent_path();
+}
+
+bool has_kernels(const fs::path& dir) {
+    std::error_code ec;
+    return !dir.empty() && fs::exists(dir / "shade.cl", ec);
+}
+
+}  // namespace
+
+std::string Runtime::find_kernel_dir(const std::string& requested) {
+    std::vector<fs::path> tried;
+    auto attempt = [&](const fs::path& p) {
+        tried.push_back(p);
+        return has_kernels(p);
+    };
+    if (!requested.empty()) {
+        if (attempt(requested)) return fs::absolute(requested).string();
+        throw Error("kernel folder '" + requested + "' has no shade.cl: point it at shadelab's kernels/ folder");
+    }
+    if (const char* env = std::getenv("SHADELAB_KERNELS"); env && *env) {
+        if (attempt(env)) return fs::absolute(env).string();
+        throw Error(std::string("SHADELAB_KERNELS='") + env +
+                    "' has no shade.cl: unset it or point it at shadelab's kernels/ folder");
+    }
+    const fs::path exe = executable_dir();
+    for (const fs::path& p : {exe / ".." / "share" / "shadelab" / "kernels", fs::path(SHADELAB_KERNEL_INSTALL_DIR),
+                              fs::path(SHADELAB_KERNEL_SOURCE_DIR)}) {
+        if (attempt(p)) return fs::weakly_canonical(p).string();
+    }
+    std::string list;
+    for (const auto& p : tried) list += (list.empty() ? "" : ", ") + p.string();
+    throw Error("cannot find the OpenCL kernels (looked in " + list +
+                "): set SHADELAB_KERNELS to shadelab's kernels/ folder");
+}
+
+Runtime::Runtime(const RuntimeOptions& options) {
+    kernel_dir_ = find_kernel_dir(options.kernel_dir);
+
+    std::vector<cl::Platform> platforms;
+    try {
+        cl::Platform::get(&platforms);
+    } catch (const cl::Error& e) {
+        if (e.err() != -1001) rethrow_cl(e, "listing OpenCL platforms");
+    }
+    if (platforms.empty())
+        throw Error("no OpenCL platform found: install PoCL (apt-get install pocl-opencl-icd ocl-icd-libopencl1, "
+                    "or run scripts/install-deps.sh as root)");
+
+    const std::string want_platform = lower(
+        options.platform_substring.empty() ? env_or("SHADELAB_CL_PLATFORM", "") : options.platform_substring);
+    int want_device = options.device_index;
+    if (want_device < 0) {
+        const std::string d = env_or("SHADELAB_CL_DEVICE", "");
+        if (!d.empty()) {
+            char* end = nullptr;
+            long v = std::strtol(d.c_str(), &end, 10);
+            if (*end != '\0' || v < 0) throw Error("SHADELAB_CL_DEVICE='" + d + "' is not a device index (0, 1, ...)");
+            want_device = int(v);
+        }
+    }
+
+    try {
+        std::vector<std::string> names;
+        const cl::Platform* chosen = nullptr;
+        for (const auto& p : platforms) {
+            const std::string name = p.getInfo<CL_PLATFORM_NAME>();
+            names.push_back(name);
+            const std::string lname = lower(name);
+            if (!want_platform.empty() ? lname.find(want_platform) != std::string::npos
+                                       : lname.find("portable computing language") != std::string::npos) {
+                chosen = &p;
+                break;
+            }
+        }
+        if (!chosen && want_platform.empty()) chosen = &platforms.front();  // no PoCL: take what there is
+        if (!chosen) {
+            std::string list;
+            for (const auto& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
+            throw Error("no OpenCL platform matches '" + want_platform + "' (platforms: " + list +
+                        "): change SHADELAB_CL_PLATFORM");
+        }
+        platform_ = *chosen;
+
+        std::vector<cl::Device> devices;
+        try {
+            platform_.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+        } catch (const cl::Error& e) {
+            if (e.err() != CL_DEVICE_NOT_FOUND) throw;
+        }
+        if (devices.empty())
+            throw Error("OpenCL platform '" + platform_.getInfo<CL_PLATFORM_NAME>() +
+                        "' has no devices: install pocl-opencl-icd or choose another platform");
+        if (want_device >= int(devices.size()))
+            throw Error("SHADELAB_CL_DEVICE=" + std::to_string(want_device) + " but the platform has " +
+                        std::to_string(devices.size()) + " device(s): use 0.." + std::to_string(devices.size() - 1));
+        if (want_device >= 0) {
+            device_ = devices[std::size_t(want_device)];
+        } else {
+            device_ = devices.front();
+            for (const auto& d : devices)
+                if (d.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) { device_ = d; break; }
+        }
+        context_ = cl::Context(device_);
+        queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE);
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "setting up the OpenCL device");
+    }
+}
+
+std::string Runtime::device_description() const {
+    return device_.getInfo<CL_DEVICE_NAME>() + " (" + platform_.getInfo<CL_PLATFORM_NAME>() + ", " +
+           device_.getInfo<CL_DEVICE_OPENCL_C_VERSION>() + ")";
+}
+
+cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
+                           const std::string& extra_options) {
+    std::string options = "-cl-std=CL1.2 -I " + kernel_dir_;
+    for (const auto& d : defines) options += " -D" + d;
+    if (!extra_options.empty()) options += " " + extra_options;
+    const std::string key = main_file + "|" + options;
+
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+
+    const fs::path path = fs::path(kernel_dir_) / main_file;
+    std::ifstream in(path);
+    if (!in) throw Error("cannot read kernel source '" + path.string() + "': is the kernels/ folder complete?");
+    std::stringstream text;
+    text << in.rdbuf();
+
+    cl::Program program;
+    try {
+        program = cl::Program(context_, text.str());
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "creating program from '" + path.string() + "'");
+    }
+    try {
+        program.build({device_}, options.c_str());
+    } catch (const cl::Error& e) {
+        std::string log;
+        try {
+            log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(device_);
+        } catch (const cl::Error&) {
+            log = "(no build log)";
+        }
+        throw Error("OpenCL build of '" + path.string() + "' failed (" + cl_error_name(e.err()) + ") on " +
+                    device_description() + " with options '" + options + "':\n" + log);
+    }
+    ++builds_;
+    cache_.emplace(key, program);
+    return program;
+}
+
+}  // namespace shadelab

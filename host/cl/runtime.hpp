@@ -1,0 +1,62 @@
+// OpenCL runtime layer: device choice, program building from kernels/*.cl, error names.
+//
+// Device choice: the first CPU device of a platform whose name contains "Portable Computing Language"
+// (PoCL), unless SHADELAB_CL_PLATFORM (substring of the platform name, case-insensitive) and/or
+// SHADELAB_CL_DEVICE (index within that platform) say otherwise, or RuntimeOptions does.
+// Kernel sources are found in SHADELAB_KERNELS (env), else next to the executable
+// (../share/shadelab/kernels), else the install prefix, else the source tree this build came from.
+#pragma once
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "cl/cl.hpp"
+
+namespace shadelab {
+
+// "CL_OUT_OF_RESOURCES" for -5, "CL_UNKNOWN_ERROR(-1234)" for codes it does not know.
+std::string cl_error_name(int code);
+
+// Wraps an OpenCL call site: turns cl::Error into shadelab::Error "what: CL_NAME (code)".
+[[noreturn]] void rethrow_cl(const cl::Error& e, const std::string& what);
+
+struct RuntimeOptions {
+    std::string platform_substring;   // empty: env SHADELAB_CL_PLATFORM, else prefer PoCL
+    int device_index = -1;            // -1: env SHADELAB_CL_DEVICE, else first CPU device
+    std::string kernel_dir;           // empty: search as described above
+};
+
+class Runtime {
+public:
+    explicit Runtime(const RuntimeOptions& options = {});
+
+    cl::Context& context() { return context_; }
+    cl::CommandQueue& queue() { return queue_; }
+    const cl::Device& device() const { return device_; }
+    const std::string& kernel_dir() const { return kernel_dir_; }
+    std::string device_description() const;   // "device name (platform name, OpenCL C version)"
+
+    // Builds (or returns the cached) program whose main file is `main_file` (relative to kernel_dir),
+    // with `-I kernel_dir`, one `-D` per define, then `extra_options` (e.g. -cl-mad-enable). The file is
+    // passed unmodified, so build-log line numbers match the files on disk. A build failure throws
+    // shadelab::Error with the log, the options and the device.
+    cl::Program build(const std::string& main_file, const std::vector<std::string>& defines,
+                      const std::string& extra_options = "");
+
+    std::size_t programs_built() const { return builds_; }
+
+    static std::string find_kernel_dir(const std::string& requested = {});
+
+private:
+    cl::Platform platform_;
+    cl::Device device_;
+    cl::Context context_;
+    cl::CommandQueue queue_;
+    std::string kernel_dir_;
+    std::mutex mutex_;
+    std::map<std::string, cl::Program> cache_;
+    std::size_t builds_ = 0;
+};
+
+}  // namespace shadelab

@@ -1,0 +1,44 @@
+// The fragment buffer: what the rasteriser (or the surface sampler) hands to the shading kernels.
+// Structure of arrays, float32, so each field is one contiguous OpenCL buffer and the kernel's loads vectorise.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace shadelab {
+
+struct FragmentBuffer {
+    int width = 0;   // image size the pixel indices refer to; 0 for surface samples (no image)
+    int height = 0;
+
+    std::vector<float> px, py, pz;   // world-space position
+    std::vector<float> nx, ny, nz;   // world-space shading normal, unit length
+    std::vector<int32_t> pixel;      // y * width + x (y = 0 is the top row); -1 for surface samples
+    std::vector<float> depth;        // view-space distance along the camera axis (positive); 0 for samples
+
+    std::size_t size() const { return px.size(); }
+    bool empty() const { return px.empty(); }
+
+    void clear() {
+        px.clear(); py.clear(); pz.clear();
+        nx.clear(); ny.clear(); nz.clear();
+        pixel.clear(); depth.clear();
+    }
+    void reserve(std::size_t n) {
+        px.reserve(n); py.reserve(n); pz.reserve(n);
+        nx.reserve(n); ny.reserve(n); nz.reserve(n);
+        pixel.reserve(n); depth.reserve(n);
+    }
+    void resize(std::size_t n) {
+        px.resize(n); py.resize(n); pz.resize(n);
+        nx.resize(n); ny.resize(n); nz.resize(n);
+        pixel.resize(n); depth.resize(n);
+    }
+    void push_back(float x, float y, float z, float n_x, float n_y, float n_z, int32_t pix, float d) {
+        px.push_back(x); py.push_back(y); pz.push_back(z);
+        nx.push_back(n_x); ny.push_back(n_y); nz.push_back(n_z);
+        pixel.push_back(pix); depth.push_back(d);
+    }
+};
+
+}  // namespace shadelab

@@ -1,0 +1,134 @@
+#include "image/image.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include <OpenImageIO/imageio.h>
+
+#include "core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace shadelab {
+
+double srgb_encode(double x) {
+    if (!(x > 0.0)) return 0.0;
+    if (x >= 1.0) return 1.0;
+    return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+
+double srgb_decode(double v) {
+    if (!(v > 0.0)) return 0.0;
+    if (v >= 1.0) return 1.0;
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
+    if (fb.width <= 0 || fb.height <= 0)
+        throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
+    const std::size_t n = fb.size();
+    if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
+    Image img(fb.width, fb.height, 4);
+    for (std::size_t p = 0; p < std::size_t(fb.width) * fb.height; ++p)
+        for (int c = 0; c < 4; ++c) img.pixels[p * 4 + c] = float(background[c]);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t p = std::size_t(fb.pixel[i]);
+        img.pixels[p * 4 + 0] = rgb[i];
+        img.pixels[p * 4 + 1] = rgb[n + i];
+        img.pixels[p * 4 + 2] = rgb[2 * n + i];
+        img.pixels[p * 4 + 3] = 1.0f;
+    }
+    return img;
+}
+
+Encoding encoding_for(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga" || ext == ".webp")
+        return Encoding::Srgb8;
+    if (ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".fits" || ext == ".pfm")
+        return Encoding::Linear;
+    throw Error("output '" + path + "' has an unsupported extension: use .png (sRGB 8-bit) or .exr (linear float)"
+                " (also .jpg .bmp .tga .webp .hdr .tif .fits .pfm)");
+}
+
+void write_image(const std::string& path, const Image& img) {
+    const Encoding enc = encoding_for(path);
+    std::size_t bad = 0;
+    for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
+    if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
+
+    const fs::path target(path);
+    std::error_code ec;
+    if (target.has_parent_path() && !fs::exists(target.parent_path(), ec)) {
+        fs::create_directories(target.parent_path(), ec);
+        if (ec) throw Error("cannot create folder '" + target.parent_path().string() + "' for '" + path + "': " + ec.message());
+    }
+    // Same folder (rename stays atomic), same extension (OpenImageIO picks the format from it).
+    const fs::path tmp = target.parent_path() /
+                         ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) + target.extension().string());
+
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
+    OIIO::ImageSpec spec(img.width, img.height, img.channels,
+                         enc == Encoding::Srgb8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    if (img.channels == 4) spec.alpha_channel = 3;
+    spec.attribute("oiio:ColorSpace", enc == Encoding::Srgb8 ? "sRGB" : "Linear");
+    spec.attribute("Software", "shadelab");
+
+    bool ok = out->open(tmp.string(), spec);
+    if (ok) {
+        if (enc == Encoding::Srgb8) {
+            std::vector<unsigned char> px(img.pixels.size());
+            for (std::size_t i = 0; i < px.size(); ++i) {
+                const bool alpha = img.channels == 4 && i % 4 == 3;
+                const double v = alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : srgb_encode(img.pixels[i]);
+                px[i] = static_cast<unsigned char>(std::lround(v * 255.0));
+            }
+            ok = out->write_image(OIIO::TypeDesc::UINT8, px.data());
+        } else {
+            ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+        }
+        ok = out->close() && ok;
+    }
+    if (!ok) {
+        const std::string why = out->geterror();
+        fs::remove(tmp, ec);
+        throw Error("writing '" + path + "' failed: " + why + " (is the disk full or the folder read-only?)");
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw Error("cannot move the finished image into place at '" + path + "': " + ec.message());
+    }
+}
+
+Image read_image(const std::string& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    Image img(spec.width, spec.height, spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+        const std::string why = in->geterror();
+        throw Error("cannot decode image '" + path + "': " + why);
+    }
+    const std::string cs = spec.get_string_attribute("oiio:ColorSpace");
+    const bool srgb = cs == "sRGB" || (cs.empty() && spec.format.size() == 1);
+    if (srgb) {
+        for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+            const bool alpha = spec.alpha_channel >= 0 && int(i % std::size_t(spec.nchannels)) == spec.alpha_channel;
+            if (!alpha) img.pixels[i] = float(srgb_decode(img.pixels[i]));
+        }
+    }
+    in->close();
+    return img;
+}
+
+}  // namespace shadelab

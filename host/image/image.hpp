@@ -1,0 +1,43 @@
+// Images: linear float RGBA in memory; written and read with OpenImageIO.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "core/fragment_buffer.hpp"
+
+namespace shadelab {
+
+struct Image {
+    int width = 0;
+    int height = 0;
+    int channels = 4;
+    std::vector<float> pixels;   // linear, row-major, row 0 is the top row, channels interleaved
+
+    Image() = default;
+    Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(std::size_t(w) * h * c, 0.0f) {}
+    float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+};
+
+// IEC 61966-2-1 sRGB transfer functions (the piecewise curve, not a 2.2 gamma).
+double srgb_encode(double linear);   // linear [0,1] -> encoded [0,1]
+double srgb_decode(double encoded);  // encoded [0,1] -> linear
+
+// Scatters shaded fragments (three planes of n floats, as Shader::shade returns) into an RGBA image of
+// fb.width x fb.height. Covered pixels get alpha 1; the rest get `background` (rgb linear, a alpha).
+Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background);
+
+enum class Encoding { Linear, Srgb8 };
+// .png .jpg .jpeg .bmp .tga .webp: 8-bit sRGB; .exr .hdr .tif .tiff .fits .pfm: linear float.
+Encoding encoding_for(const std::string& path);
+
+// Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
+// leaves a truncated image. Refuses (shadelab::Error) images holding NaN or Inf: they are bugs upstream.
+void write_image(const std::string& path, const Image& img);
+
+// Reads any format OpenImageIO reads; 8-bit sRGB-encoded formats are decoded to linear.
+Image read_image(const std::string& path);
+
+}  // namespace shadelab

@@ -1,0 +1,117 @@
+#include "models/catalogue.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace shadelab {
+
+const std::vector<ModelInfo>& model_catalogue() {
+    static const std::vector<ModelInfo> all = [] {
+        std::vector<ModelInfo> v;
+        register_lambert_family(v);
+        register_wrap_family(v);
+        register_phong_family(v);
+        register_banded_toon_family(v);
+        register_minnaert_family(v);
+        register_oren_nayar_family(v);
+        register_cook_torrance_family(v);
+        register_gradient_family(v);
+        std::set<std::string> seen;
+        for (const auto& m : v)
+            if (!seen.insert(m.name).second) throw Error("internal: model '" + m.name + "' registered twice");
+        return v;
+    }();
+    return all;
+}
+
+const ModelInfo& find_model(const std::string& name) {
+    for (const auto& m : model_catalogue())
+        if (m.name == name) return m;
+    std::string names;
+    for (const auto& m : model_catalogue()) names += (names.empty() ? "" : ", ") + m.name;
+    throw Error("unknown model '" + name + "': choose one of " + names);
+}
+
+namespace {
+std::string fmt(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+}  // namespace
+
+Material resolve_material(const Material& m, const std::string& where) {
+    const std::string at = where.empty() ? "" : where + ": ";
+    const ModelInfo* info = nullptr;
+    try {
+        info = &find_model(m.model);
+    } catch (const Error& e) {
+        throw Error(at + e.what());
+    }
+    Material out = m;
+    for (const auto& [name, value] : m.params) {
+        bool known = false;
+        for (const auto& p : info->params) known = known || p.name == name;
+        if (!known) {
+            std::string names;
+            for (const auto& p : info->params) names += (names.empty() ? "" : ", ") + p.name;
+            throw Error(at + "model '" + m.model + "' has no parameter '" + name + "'" +
+                        (names.empty() ? std::string(" (it takes none)") : " (it takes: " + names + ")"));
+        }
+    }
+    for (const auto& p : info->params) {
+        auto it = out.params.find(p.name);
+        if (it == out.params.end()) {
+            out.params[p.name] = p.def;
+            continue;
+        }
+        const double v = it->second;
+        if (!std::isfinite(v) || v < p.lo || v > p.hi || (p.integer && v != std::floor(v)))
+            throw Error(at + "parameter '" + p.name + "' of model '" + m.model + "' is " + fmt(v) +
+                        ": allowed range is [" + fmt(p.lo) + ", " + fmt(p.hi) + "]" +
+                        (p.integer ? " (whole numbers)" : ""));
+    }
+    for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(m.albedo[c]) || m.albedo[c] < 0.0)
+            throw Error(at + "albedo of model '" + m.model + "' must be finite and >= 0 in each channel");
+        if (!std::isfinite(m.specular[c]) || m.specular[c] < 0.0)
+            throw Error(at + "specular colour of model '" + m.model + "' must be finite and >= 0 in each channel");
+    }
+    if (int(m.children.size()) != info->children)
+        throw Error(at + "model '" + m.model + "' blends " + std::to_string(info->children) +
+                    " other models but " + std::to_string(m.children.size()) + " were given");
+    for (std::size_t c = 0; c < m.children.size(); ++c) {
+        if (find_model(m.children[c].model).children != 0)
+            throw Error(at + "model '" + m.model + "' cannot blend '" + m.children[c].model +
+                        "', which itself blends other models");
+        out.children[c] = resolve_material(m.children[c], where);
+    }
+    return out;
+}
+
+std::vector<double> ordered_params(const ModelInfo& info, const Material& m) {
+    std::vector<double> v;
+    for (const auto& p : info.params) v.push_back(m.params.at(p.name));
+    return v;
+}
+
+std::vector<ModelConsts> pack_material(const Material& m) {
+    auto pack_one = [](const Material& mat) {
+        const ModelInfo& info = find_model(mat.model);
+        ModelConsts k{};
+        for (int c = 0; c < 3; ++c) {
+            k.albedo[c] = float(mat.albedo[c]);
+            k.specular[c] = float(mat.specular[c]);
+        }
+        if (info.pack) info.pack(ordered_params(info, mat), k.c);
+        return k;
+    };
+    std::vector<ModelConsts> out{pack_one(m)};
+    for (const auto& c : m.children) out.push_back(pack_one(c));
+    return out;
+}
+
+}  // namespace shadelab

@@ -1,0 +1,75 @@
+#include "reference/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace shadelab::ref {
+
+namespace {
+const Table& table() {
+    static const Table t = [] {
+        Table x;
+        add_lambert_references(x);
+        add_wrap_references(x);
+        add_phong_references(x);
+        add_banded_toon_references(x);
+        add_minnaert_references(x);
+        add_oren_nayar_references(x);
+        add_cook_torrance_references(x);
+        add_gradient_references(x);
+        return x;
+    }();
+    return t;
+}
+}  // namespace
+
+const ModelFn& reference_for(const std::string& model) {
+    auto it = table().find(model);
+    if (it == table().end()) throw Error("model '" + model + "' has no double-precision reference");
+    return it->second;
+}
+
+std::vector<std::string> models_with_reference() {
+    std::vector<std::string> v;
+    for (const auto& [k, _] : table()) v.push_back(k);
+    return v;
+}
+
+dvec3 eval_material(const dvec3& N, const dvec3& L, const dvec3& V, const dvec3& P, const Material& m) {
+    return reference_for(m.model)(N, L, V, P, m);
+}
+
+// Point-light falloff: inverse square, optionally windowed by (1 - (d/range)^4)^2 clamped at 0
+// (Karis 2013, "Real Shading in Unreal Engine 4"), which reaches exactly 0 at d = range.
+static double point_attenuation(double d2, double range) {
+    double window = 1.0;
+    if (range > 0.0) {
+        const double q = d2 / (range * range);
+        window = std::clamp(1.0 - q * q, 0.0, 1.0);
+        window *= window;
+    }
+    return window / d2;
+}
+
+dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material& m,
+                  const std::vector<Light>& lights, const dvec3& ambient) {
+    dvec3 sum = ambient * m.albedo;
+    for (const Light& li : lights) {
+        dvec3 L;
+        double atten = 1.0;
+        if (li.type == Light::Type::Directional) {
+            L = glm::normalize(li.vec);
+        } else {
+            const dvec3 d = li.vec - P;
+            const double d2 = std::max(glm::dot(d, d), 1e-12);
+            L = d / std::sqrt(d2);
+            atten = point_attenuation(d2, li.range);
+        }
+        sum += li.colour * li.intensity * atten * eval_material(N, L, V, P, m);
+    }
+    return sum;
+}
+
+}  // namespace shadelab::ref

@@ -1,0 +1,48 @@
+// Double-precision scalar references, written from the papers' formulas. They share no code with the
+// kernels (or with host/models/, which packs the kernels' constants): a reference computes its own derived
+// constants from the user's parameters, so a slip in one side shows up as a difference.
+//
+// Same convention as the kernels: value = outgoing radiance per unit light radiance, incident cosine
+// included, scaled so that a white Lambert surface lit head-on gives 1 (pi * f_r * NoL for BRDFs).
+#pragma once
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "models/material.hpp"
+
+namespace shadelab::ref {
+
+using dvec3 = glm::dvec3;
+
+// N, L, V unit; P world position (used by the gradient model only); m a resolved material.
+using ModelFn = std::function<dvec3(const dvec3& N, const dvec3& L, const dvec3& V, const dvec3& P,
+                                    const Material& m)>;
+
+// Throws shadelab::Error if the model has no reference.
+const ModelFn& reference_for(const std::string& model);
+std::vector<std::string> models_with_reference();
+
+// Evaluates the material (its own model, which may call its children's references).
+dvec3 eval_material(const dvec3& N, const dvec3& L, const dvec3& V, const dvec3& P, const Material& m);
+
+// The multi-light sum of the Shader Story equation for one point:
+//   sum_i  colour_i * intensity_i * atten_i(P) * model(N, L_i, V)  +  ambient * albedo
+dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material& m,
+                  const std::vector<Light>& lights, const dvec3& ambient);
+
+// Families add their references here (one file each under host/reference/).
+using Table = std::map<std::string, ModelFn>;
+void add_lambert_references(Table& t);
+void add_wrap_references(Table& t);
+void add_phong_references(Table& t);
+void add_banded_toon_references(Table& t);
+void add_minnaert_references(Table& t);
+void add_oren_nayar_references(Table& t);
+void add_cook_torrance_references(Table& t);
+void add_gradient_references(Table& t);
+
+}  // namespace shadelab::ref

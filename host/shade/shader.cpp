@@ -1,0 +1,187 @@
+#include "shade/shader.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "models/catalogue.hpp"
+
+namespace shadelab {
+
+namespace {
+
+// Host mirror of `Light` in kernels/common.cl.
+struct LightGPU {
+    float pos_or_dir[4];
+    float radiance[4];
+    float params[4];
+};
+static_assert(sizeof(LightGPU) == 48, "LightGPU layout");
+
+std::vector<LightGPU> pack_lights(const std::vector<Light>& lights) {
+    std::vector<LightGPU> out;
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        const std::string which = "light " + std::to_string(i + 1);
+        for (int c = 0; c < 3; ++c) {
+            if (!std::isfinite(l.vec[c])) throw Error(which + " has a non-finite position/direction");
+            if (!std::isfinite(l.colour[c]) || l.colour[c] < 0) throw Error(which + " colour must be finite and >= 0");
+        }
+        if (!std::isfinite(l.intensity) || l.intensity < 0) throw Error(which + " intensity must be finite and >= 0");
+        if (!std::isfinite(l.range) || l.range < 0) throw Error(which + " range must be finite and >= 0 (0 = unbounded)");
+        LightGPU g{};
+        glm::dvec3 v = l.vec;
+        if (l.type == Light::Type::Directional) {
+            const double len = glm::length(v);
+            if (!(len > 0)) throw Error(which + " is directional with a zero direction vector: give a direction");
+            v /= len;
+        }
+        for (int c = 0; c < 3; ++c) {
+            g.pos_or_dir[c] = float(v[c]);
+            g.radiance[c] = float(l.colour[c] * l.intensity);
+        }
+        g.params[0] = l.type == Light::Type::Directional ? 0.0f : 1.0f;
+        g.params[1] = float(l.range);
+        out.push_back(g);
+    }
+    if (out.empty()) out.push_back(LightGPU{});   // a __constant buffer cannot be empty; never read
+    return out;
+}
+
+std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+
+double ms_between(const cl::Event& e) {
+    const auto t0 = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
+    const auto t1 = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
+    return double(t1 - t0) * 1e-6;
+}
+
+}  // namespace
+
+const char* precision_name(Precision p) { return p == Precision::Fast ? "fast" : "precise"; }
+
+Precision parse_precision(const std::string& name) {
+    if (name == "precise") return Precision::Precise;
+    if (name == "fast") return Precision::Fast;
+    throw Error("precision mode '" + name + "' is unknown: use 'precise' or 'fast'");
+}
+
+std::string Shader::options_for(Precision precision) {
+    return precision == Precision::Fast ? "-cl-mad-enable" : "";
+}
+
+std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, Precision precision) {
+    const ModelInfo& info = find_model(m.model);
+    std::vector<std::string> d{"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
+                               "SL_NUM_LIGHTS=" + std::to_string(num_lights)};
+    if (precision == Precision::Fast) d.push_back("SL_FAST=1");
+    for (std::size_t c = 0; c < m.children.size(); ++c) {
+        const ModelInfo& ci = find_model(m.children[c].model);
+        d.push_back("SL_CHILD" + std::to_string(c) + "_HEADER=<" + ci.header + ">");
+        d.push_back("SL_CHILD" + std::to_string(c) + "_EVAL=" + ci.eval);
+    }
+    return d;
+}
+
+std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& setup, ShadeTiming* timing) {
+    const Material mat = resolve_material(setup.material);
+    const std::size_t n = fb.size();
+    if (n == 0) return {};
+    if (n > 0xffffffffu) throw Error("fragment buffer too large for one launch (" + std::to_string(n) + ")");
+    const auto consts = pack_material(mat);
+    const auto lights = pack_lights(setup.lights);
+    for (int c = 0; c < 4; ++c)
+        if (!std::isfinite(setup.view[c])) throw Error("view position/direction is not finite");
+    glm::dvec4 view = setup.view;
+    if (view.w == 0.0) {
+        const double len = glm::length(glm::dvec3(view));
+        if (!(len > 0)) throw Error("orthographic view direction is zero: give a direction to the viewer");
+        view = glm::dvec4(glm::dvec3(view) / len, 0.0);
+    }
+
+    using clock = std::chrono::steady_clock;
+    std::vector<float> out(3 * n);
+    try {
+        const auto t0 = clock::now();
+        cl::Program prog = rt_.build("shade.cl", defines_for(mat, int(setup.lights.size()), setup.precision),
+                                     options_for(setup.precision));
+        const auto t1 = clock::now();
+        cl::Kernel k(prog, "shade_fragments");
+        auto& ctx = rt_.context();
+        auto& q = rt_.queue();
+        const std::size_t bytes = n * sizeof(float);
+        auto ro = [&](const std::vector<float>& v) {
+            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+        };
+        cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
+                   bnz = ro(fb.nz);
+        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, 3 * bytes);
+        cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
+                           const_cast<ModelConsts*>(consts.data()));
+        cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(LightGPU),
+                           const_cast<LightGPU*>(lights.data()));
+        const auto t2 = clock::now();
+        k.setArg(0, bpx); k.setArg(1, bpy); k.setArg(2, bpz);
+        k.setArg(3, bnx); k.setArg(4, bny); k.setArg(5, bnz);
+        k.setArg(6, bout);
+        k.setArg(7, cl_uint(n));
+        k.setArg(8, cl_float4{{float(view.x), float(view.y), float(view.z), float(view.w)}});
+        k.setArg(9, bconsts);
+        k.setArg(10, blights);
+        k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
+        cl::Event ev;
+        q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)), cl::NDRange(kLocalSize),
+                               nullptr, &ev);
+        ev.wait();
+        const auto t3 = clock::now();
+        q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * bytes, out.data());
+        const auto t4 = clock::now();
+        if (timing) {
+            auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
+            timing->build_ms = ms(t0, t1);
+            timing->upload_ms = ms(t1, t2);
+            timing->kernel_ms = ms_between(ev);
+            timing->download_ms = ms(t3, t4);
+        }
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "shading " + std::to_string(n) + " fragments with model '" + mat.model + "'");
+    }
+    return out;
+}
+
+std::vector<float> Shader::eval_directions(const Material& material, const std::vector<float>& N,
+                                           const std::vector<float>& L, const std::vector<float>& V,
+                                           const std::vector<float>& P, Precision precision) {
+    const Material mat = resolve_material(material);
+    const std::size_t n = N.size() / 3;
+    if (N.size() != 3 * n || L.size() != 3 * n || V.size() != 3 * n || P.size() != 3 * n)
+        throw Error("eval_directions: N, L, V, P must all hold 3n floats");
+    if (n == 0) return {};
+    const auto consts = pack_material(mat);
+    std::vector<float> out(3 * n);
+    try {
+        cl::Program prog = rt_.build("shade.cl", defines_for(mat, 1, precision), options_for(precision));
+        cl::Kernel k(prog, "eval_directions");
+        auto& ctx = rt_.context();
+        const std::size_t bytes = 3 * n * sizeof(float);
+        auto ro = [&](const std::vector<float>& v) {
+            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+        };
+        cl::Buffer bn = ro(N), bl = ro(L), bv = ro(V), bp = ro(P);
+        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, bytes);
+        cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
+                           const_cast<ModelConsts*>(consts.data()));
+        k.setArg(0, bn); k.setArg(1, bl); k.setArg(2, bv); k.setArg(3, bp);
+        k.setArg(4, bout);
+        k.setArg(5, cl_uint(n));
+        k.setArg(6, bconsts);
+        rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)),
+                                         cl::NDRange(kLocalSize));
+        rt_.queue().enqueueReadBuffer(bout, CL_TRUE, 0, bytes, out.data());
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "evaluating model '" + mat.model + "' on " + std::to_string(n) + " direction triples");
+    }
+    return out;
+}
+
+}  // namespace shadelab

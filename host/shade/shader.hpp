@@ -1,0 +1,62 @@
+// Runs a material's model over a fragment buffer (or over raw direction triples) on the OpenCL device.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "cl/runtime.hpp"
+#include "core/fragment_buffer.hpp"
+#include "models/material.hpp"
+
+namespace shadelab {
+
+// How the kernels compute (see kernels/common.cl): precise = the OpenCL built-ins; fast = native_ forms
+// and an exp2/log2 pow, built with -cl-mad-enable. Errors of each are measured in docs/speed.md.
+enum class Precision { Precise, Fast };
+const char* precision_name(Precision p);
+Precision parse_precision(const std::string& name);   // "precise" | "fast"; throws shadelab::Error
+
+struct ShadeSetup {
+    Material material;                  // resolved (resolve_material) or it will be resolved here
+    std::vector<Light> lights;
+    glm::dvec3 ambient{0.0};
+    // w = 1: xyz is the camera position (perspective views); w = 0: xyz is the direction to the viewer,
+    // the same for every fragment (orthographic views such as the moon disc).
+    glm::dvec4 view{0.0, 0.0, 3.0, 1.0};
+    Precision precision = Precision::Precise;
+};
+
+struct ShadeTiming {
+    double build_ms = 0.0;     // program build (0 when cached)
+    double upload_ms = 0.0;
+    double kernel_ms = 0.0;    // device time of the kernel (profiling events)
+    double download_ms = 0.0;
+};
+
+class Shader {
+public:
+    explicit Shader(Runtime& runtime) : rt_(runtime) {}
+
+    // Returns three planes of n floats: all red, then all green, then all blue (linear radiance).
+    std::vector<float> shade(const FragmentBuffer& fragments, const ShadeSetup& setup, ShadeTiming* timing = nullptr);
+
+    // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
+    // returns rgb interleaved (3n floats). Used by the kernel-vs-reference sweeps.
+    std::vector<float> eval_directions(const Material& material, const std::vector<float>& N,
+                                       const std::vector<float>& L, const std::vector<float>& V,
+                                       const std::vector<float>& P, Precision precision = Precision::Precise);
+
+    // The -D defines a material (and light count) is built with; also the program cache key.
+    static std::vector<std::string> defines_for(const Material& resolved, int num_lights,
+                                                Precision precision = Precision::Precise);
+    static std::string options_for(Precision precision);
+
+    // Work-group size used for the launches (a multiple of the vector width helps PoCL's vectoriser).
+    static constexpr std::size_t kLocalSize = 256;
+
+private:
+    Runtime& rt_;
+};
+
+}  // namespace shadelab

@@ -1,0 +1,14 @@
+// Lambert (Lambert 1760, Photometria): an ideal diffuse surface, f_r = albedo / pi.
+//   value = albedo * max(0, NoL)
+// Parameters: none beyond the albedo. Leaves out: nothing (the 1/pi cancels under the value convention).
+#ifndef SHADELAB_MODEL_LAMBERT_CL
+#define SHADELAB_MODEL_LAMBERT_CL
+#include "common.cl"
+
+SL_INLINE float Fd_Lambert_cos(float NoL) { return fmax(NoL, 0.0f); }
+
+SL_INLINE float3 lambert_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+    (void)V; (void)P;
+    return sl_albedo(mc) * Fd_Lambert_cos(dot(N, L));
+}
+#endif

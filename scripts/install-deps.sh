@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The one list of every Debian package shadelab builds, runs and tests with.
+# Run as root on Debian 12 (bookworm). Safe to re-run: it installs only what is missing.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake pkg-config
+  # OpenCL: PoCL CPU runtime, ICD loader, C and C++ headers, clinfo for diagnosis
+  pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
+  # mesh IO, image IO, host maths
+  libopenmesh-dev libopenimageio-dev openimageio-tools libglm-dev
+  # command line, JSON, tests
+  libcli11-dev nlohmann-json3-dev catch2
+  # charts (gnuplot renders the PNG plots)
+  gnuplot-nox
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  echo "install-deps: missing packages: ${missing[*]}" >&2
+  echo "install-deps: run this script as root (or: sudo apt-get install ${missing[*]})" >&2
+  exit 1
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"
