@@ -1,0 +1,210 @@
+// The Oren-Nayar family (kernels/models/oren_nayar.cl, docs/models/oren_nayar.md): parameters and the
+// constants each kernel reads, computed once per material in double and stored as float.
+#include <cmath>
+
+#include "models/catalogue.hpp"
+
+namespace shadelab {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kHalfPi = kPi / 2.0;
+
+// The paper's qualitative-model coefficients (Oren & Nayar 1994), sigma in radians.
+double qon_A(double sigma) {
+    const double s2 = sigma * sigma;
+    return 1.0 - 0.5 * s2 / (s2 + 0.33);
+}
+double qon_B(double sigma) {
+    const double s2 = sigma * sigma;
+    return 0.45 * s2 / (s2 + 0.09);
+}
+
+ParamSpec sigma_param(const std::string& doc) {
+    return ParamSpec{"sigma", 0.3, 0.0, kHalfPi, doc, false};
+}
+
+// EON / Fujii constants (Portsmouth, Kutz, Hill 2025): c1 = 1/2 - 2/(3 pi), c2 = 2/3 - 28/(15 pi).
+constexpr double kFonC1 = 0.5 - 2.0 / (3.0 * kPi);
+constexpr double kFonC2 = 2.0 / 3.0 - 28.0 / (15.0 * kPi);
+
+void pack_eon(const std::vector<double>& p, float* c) {
+    const double r = p[0];
+    const double AF = 1.0 / (1.0 + kFonC1 * r);
+    c[0] = float(AF);
+    c[1] = float(r);
+    c[2] = float(AF * (1.0 + kFonC2 * r));        // Ebar, the FON average albedo
+    c[3] = float(r * AF / (kFonC1 - kFonC2));     // f_ms scale: (1-E_o)(1-E_i)/(1-Ebar) = r AF (c1-g_o)(c1-g_i)/(c1-c2)
+    c[4] = float(kFonC1);
+}
+
+ModelInfo base(const std::string& name, const std::string& summary, const std::string& source,
+               const std::string& eval) {
+    ModelInfo m;
+    m.name = name;
+    m.family = "oren_nayar";
+    m.summary = summary;
+    m.source = source;
+    m.header = "models/oren_nayar.cl";
+    m.eval = eval;
+    return m;
+}
+
+}  // namespace
+
+void register_oren_nayar_family(std::vector<ModelInfo>& out) {
+    const std::string paper = "Oren & Nayar (1994) Generalization of Lambert's Reflectance Model, SIGGRAPH";
+    const std::string sigma_doc = "facet slope standard deviation, radians (0 = Lambert)";
+
+    {
+        ModelInfo m = base("oren_nayar", "paper's qualitative model: A + B max(0, cos dphi) sin(alpha) tan(beta)",
+                           paper + " (qualitative model); pbrt-v3 OrenNayar", "oren_nayar_eval");
+        m.params = {sigma_param(sigma_doc)};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            c[0] = float(qon_A(p[0]));
+            c[1] = float(qon_B(p[0]));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // directional albedo reaches 1.015 at grazing view, sigma ~ 0.2 (docs)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_st", "paper's qualitative model, trig-free: A + B max(0, s) / max(NoL, NoV)",
+                           paper + " (qualitative model, s/t form of Fujii 2013)", "oren_nayar_st_eval");
+        m.params = {sigma_param(sigma_doc)};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            c[0] = float(qon_A(p[0]));
+            c[1] = float(qon_B(p[0]));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the same function as oren_nayar
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_full", "paper's full model: C1, C2, C3 and the interreflection term",
+                           paper + " (functional approximation with interreflections)", "oren_nayar_full_eval");
+        m.params = {sigma_param(sigma_doc)};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double s2 = p[0] * p[0];
+            c[0] = float(1.0 - 0.5 * s2 / (s2 + 0.33));
+            c[1] = float(0.45 * s2 / (s2 + 0.09));
+            c[2] = float(0.125 * s2 / (s2 + 0.09));
+            c[3] = float(0.17 * s2 / (s2 + 0.13));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the rho^2 interreflection term lifts it above 1 for albedo near 1
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_seed001",
+                           "seed 001 (Unity-style): A + albedo 0.17 r^2/(r^2+0.13) + B s/t, saturate(L.V)",
+                           "seed 001 (lighting-models article); = Fujii 2013 matched to full O-N, but saturate(L.V)",
+                           "oren_nayar_seed001_eval");
+        m.params = {sigma_param("the seed's _Roughness (= sigma, radians)")};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double r2 = p[0] * p[0];
+            c[0] = float(1.0 - 0.5 * r2 / (r2 + 0.33));
+            c[1] = float(0.17 * r2 / (r2 + 0.13));
+            c[2] = float(0.45 * r2 / (r2 + 0.09));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the albedo colour term adds energy (docs table)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_seed003",
+                           "seed 003 (HLSL): PhiR = |Vt| |Lt| (product of lengths) in place of cos dphi",
+                           "seed 003 (Oren-Nayar notes, HLSL listing)", "oren_nayar_seed003_eval");
+        m.params = {ParamSpec{"roughness", 0.3, 0.0, kHalfPi,
+                              "the listing's MaterialRoughness; squared inside, so it equals sigma (radians)", false}};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double R = std::pow(p[0], 2.0);   // Roughness = pow(MaterialRoughness, 2)
+            c[0] = float(1.0 - 0.5 * (R / (R + 0.33)));
+            c[1] = float(0.45 * (R / (R + 0.09)));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the unclamped, azimuth-free B term exceeds 1 (docs table)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_seed004",
+                           "seed 004 (slides): A with 0.57, B term times unnormalised gamma = (Vt . Lt)",
+                           "seed 004 (lecture slides 'Shaders', Oren Nayar formulas)", "oren_nayar_seed004_eval");
+        m.params = {sigma_param("the slides' roughness (= sigma, radians)")};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double r2 = p[0] * p[0];
+            c[0] = float(1.0 - 0.5 * r2 / (r2 + 0.57));
+            c[1] = float(0.45 * r2 / (r2 + 0.09));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the A nearer 1 overshoots at grazing view for small sigma (docs)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_blender", "Blender 2.4x OrenNayar_Diff: the paper's QON with beta * 0.95",
+                           "Blender 2.4x source/blender/render/intern/source/shadeoutput.c, OrenNayar_Diff",
+                           "oren_nayar_blender_eval");
+        m.params = {ParamSpec{"sigma", 0.3, 0.0, kPi, "Blender's 'rough' (sigma, radians; Blender's UI range)", false}};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            c[0] = float(qon_A(p[0]));
+            c[1] = float(qon_B(p[0]));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // 1.0036 at grazing view, sigma ~ 0.14: less than QON's 1.015 (docs)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_fujii", "Fujii's improved O-N: (1 + sigma' s/t) / (1 + (1/2 - 2/(3 pi)) sigma')",
+                           "Fujii (2013) A tiny improvement of Oren-Nayar reflectance model (mimosa-pudica.net)",
+                           "oren_nayar_fujii_eval");
+        m.params = {ParamSpec{"roughness", 0.5, 0.0, 1.0,
+                              "Fujii's sigma': ratio of the non-diffuse to the diffuse term (0 = Lambert)", false}};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double A = 1.0 / (kPi + (kHalfPi - 2.0 / 3.0) * p[0]);
+            c[0] = float(kPi * A);
+            c[1] = float(kPi * p[0] * A);
+        };
+        m.reciprocal = true;
+        m.energy_conserving = true;    // normalised at NoV = 0, where its albedo is exactly 1 (docs)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("oren_nayar_fujii_full",
+                           "Fujii's s/t form with A, B matched to the full model (A has 0.17 albedo term)",
+                           "Fujii (2013) A tiny improvement of Oren-Nayar reflectance model, 'match full O-N'",
+                           "oren_nayar_fujii_full_eval");
+        m.params = {sigma_param(sigma_doc)};
+        m.pack = [](const std::vector<double>& p, float* c) {
+            const double s2 = p[0] * p[0];
+            c[0] = float(1.0 - 0.5 * s2 / (s2 + 0.33));
+            c[1] = float(0.17 * s2 / (s2 + 0.13));
+            c[2] = float(0.45 * s2 / (s2 + 0.09));
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;   // Fujii: violated for albedo > 0.97
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("eon", "energy-preserving Oren-Nayar: FON + multiple-scattering lobe, exact E_FON",
+                           "Portsmouth, Kutz, Hill (2025) EON: A practical energy-preserving rough diffuse BRDF, "
+                           "JCGT 14(1) (arXiv 2410.18026); OpenPBR",
+                           "eon_eval");
+        m.params = {ParamSpec{"roughness", 0.5, 0.0, 1.0, "EON's r (Fujii's sigma'), 0 = Lambert", false}};
+        m.pack = pack_eon;
+        m.reciprocal = true;
+        m.energy_conserving = true;    // white furnace 1 to the integration error (docs)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("eon_approx", "EON with the paper's polynomial fit of the FON albedo",
+                           "Portsmouth, Kutz, Hill (2025) EON, E_FON_approx (arXiv 2410.18026)", "eon_approx_eval");
+        m.params = {ParamSpec{"roughness", 0.5, 0.0, 1.0, "EON's r (Fujii's sigma'), 0 = Lambert", false}};
+        m.pack = pack_eon;
+        m.reciprocal = true;
+        m.energy_conserving = false;   // the fit's error lifts the furnace to 1.00015 near 82 deg (docs)
+        out.push_back(m);
+    }
+}
+
+}  // namespace shadelab
