@@ -1,0 +1,26 @@
+// Image against image: per-pixel CIEDE2000 (on linear sRGB -> Lab) and relative error on linear values.
+#pragma once
+#include <cstddef>
+#include <string>
+
+#include "image/image.hpp"
+
+namespace shadelab {
+
+struct ImageDiff {
+    std::size_t pixels = 0;            // pixels compared (covered in both, when both have alpha)
+    std::size_t coverage_mismatch = 0; // covered in one image only (not compared, counted)
+    double de_mean = 0.0, de_p99 = 0.0, de_max = 0.0;   // CIEDE2000
+    double rel_max = 0.0, rel_p99 = 0.0;  // |a - b| / |b| per channel, where |b| >= rel_floor
+    double abs_max = 0.0;
+    Image de_map;                      // width x height x 1: Delta E 2000 per pixel (0 where not compared)
+};
+
+// `b` is the reference. Images must have the same size; colours are linear RGB (as read_image returns).
+// Values are clamped to >= 0 before the Lab conversion (Lab is undefined for negative light).
+ImageDiff compare_images(const Image& a, const Image& b, double rel_floor = 1e-3);
+
+// Colour-maps a Delta E map for viewing: 0 -> dark blue, `scale_max` and above -> yellow-white.
+Image colourise_delta_e(const Image& de_map, double scale_max);
+
+}  // namespace shadelab
