@@ -1,0 +1,94 @@
+// Banded lighting and toon shading: NoL (and a Blinn-Phong highlight) quantised into a few flat levels.
+// Artist models in the value convention of common.cl; none is reciprocal. docs/models/banded_toon.md
+// has the exact rules, the seed's slips, the parameter ranges and the measured kernel errors.
+//
+// Notation: NoL = dot(N, L); NoH with H = normalize(L + V); steps = number of lit bands (banded);
+// t = seed 001's _LightSteps; n = Blinn-Phong exponent; width = smoothing width of a band edge.
+// Quantisers are discontinuous: an input exactly at a band edge takes the UPPER level, and float
+// rounding of NoL (~1e-7) can move an input that lies within a few ulps of an edge to the other band.
+#ifndef SHADELAB_MODEL_BANDED_TOON_CL
+#define SHADELAB_MODEL_BANDED_TOON_CL
+#include "common.cl"
+#include "phong.cl"   // BlinnPhong_NoH, Spec_Power
+
+// ---- terms ----------------------------------------------------------------------------------------
+
+// Banded NoL: max(0, NoL) rounded to the nearest multiple of 1 / steps,
+//   Band_Round(NoL) = floor(max(0, NoL) * steps + 1/2) / steps,
+// i.e. seed 001's rounding with its step size corrected to 1 / steps (the seed's comment thread says
+// _LightSteps is the number of bands). Levels 0, 1/steps, ..., 1: `steps` lit levels plus unlit, with
+// edges at NoL = (k + 1/2) / steps. Rounding (not floor or ceil) keeps 0 at the terminator and 1
+// head-on, and leaves the directional albedo of a banded Lambert surface exactly Lambert's (1) for
+// every steps. Use it anywhere NoL is used: albedo * Band_Round(NoL) is banded Lambert.
+// inv_steps = 1 / steps, precomputed on the host.
+SL_INLINE float Band_Round(float NoL, float steps, float inv_steps) {
+    return floor(fmax(NoL, 0.0f) * steps + 0.5f) * inv_steps;
+}
+
+// Seed 001's banded NoL, literally (with its `_lightBandsMultiplier` typo read as lightBandsMultiplier):
+//   floor((max(0, NoL) * 256 + t / 2) / t) * (t / 256),   t = _LightSteps.
+// This rounds NoL to the nearest multiple of t / 256: t is a step size in 1/256 units, NOT a band count.
+// t = 256 / s (s a power of two) equals Band_Round with steps = s; t = 1 gives 256 levels (almost no
+// banding); for t not dividing 256 the top level can exceed 1 (t = 170: 1.328 for NoL >= 0.996).
+// half_t = t / 2 and t_256 = t / 256 precomputed on the host (as the seed's two named constants).
+SL_INLINE float Band_Seed001(float NoL, float t, float half_t, float t_256) {
+    return floor((fmax(NoL, 0.0f) * 256.0f + half_t) / t) * t_256;
+}
+
+// One toon band edge at threshold `edge`: half_width 0 gives a hard step (x >= edge -> 1: a value
+// exactly at the edge takes the upper level); half_width > 0 a smoothstep over
+// [edge - half_width, edge + half_width]. (OpenCL's smoothstep is undefined for equal edges, hence
+// the explicit hard case.)
+SL_INLINE float Toon_Step(float x, float edge, float half_width) {
+    return half_width > 0.0f ? smoothstep(edge - half_width, edge + half_width, x) : step(edge, x);
+}
+
+// Toon diffuse: four levels d0..d3 over the unclamped NoL with ascending thresholds t1 <= t2 <= t3,
+//   d0 + (d1 - d0) Step(NoL, t1) + (d2 - d1) Step(NoL, t2) + (d3 - d2) Step(NoL, t3).
+// c[2..4] = t1..t3, c[5] = d0, c[6..8] = the level differences (host).
+SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const float* c) {
+    return c[5] + c[6] * Toon_Step(NoL, c[2], half_width) + c[7] * Toon_Step(NoL, c[3], half_width) +
+           c[8] * Toon_Step(NoL, c[4], half_width);
+}
+
+// Toon specular: three levels s0..s2 of the Blinn-Phong intensity x = max(0, NoH)^n with thresholds
+// u1 <= u2, s0 + (s1 - s0) Step(x, u1) + (s2 - s1) Step(x, u2).
+// c[9..10] = u1, u2, c[11] = s0, c[12..13] = the level differences (host).
+SL_INLINE float Toon_Specular(float x, float half_width, __constant const float* c) {
+    return c[11] + c[12] * Toon_Step(x, c[9], half_width) + c[13] * Toon_Step(x, c[10], half_width);
+}
+
+// ---- models ---------------------------------------------------------------------------------------
+
+// banded: banded Lambert, value = albedo * floor(max(0, NoL) * steps + 1/2) / steps.
+// c[0] = steps (whole number in [1, 256]), c[1] = 1 / steps. Source: seed 001 (banded lighting), rule
+// corrected as above. Directional albedo: exactly 1 for albedo 1 (rounding is unbiased per band).
+SL_INLINE float3 banded_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+    (void)V; (void)P;
+    return sl_albedo(mc) * Band_Round(dot(N, L), mc->c[0], mc->c[1]);
+}
+
+// banded_seed001: value = albedo * (seed 001's bandedNdotL) with t = light_steps (whole number in
+// [1, 256]). c[0] = t, c[1] = t / 2, c[2] = t / 256.
+SL_INLINE float3 banded_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+    (void)V; (void)P;
+    return sl_albedo(mc) * Band_Seed001(dot(N, L), mc->c[0], mc->c[1], mc->c[2]);
+}
+
+// toon: value = albedo * Toon_Diffuse(NoL) + specular * Toon_Step(NoL, 0) * Toon_Specular(max(0, NoH)^n)
+// Seed 004 ("discretize diffuse and specular factor: ~4 intensity values for diffuse, ~3 for
+// specular"); hard shading as in Lake, Marshall, Harris, Blackstein 2000, "Stylized rendering
+// techniques for scalable real-time 3D animation" (NPAR), with the 1-D texture replaced by thresholds.
+// c[0] = n, c[1] = width / 2. The highlight is gated by the light's side, an edge at NoL = 0 like the
+// others (hard: NoL >= 0; smoothed with the same width), and is 0 where H is undefined (L = -V).
+// Leaves out: energy conservation, reciprocity, outlines.
+SL_INLINE float3 toon_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+    (void)P;
+    const float NoL = dot(N, L);
+    const float half_width = mc->c[1];
+    const float x = Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
+    return sl_albedo(mc) * Toon_Diffuse(NoL, half_width, mc->c) +
+           sl_specular(mc) * (Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, mc->c));
+}
+
+#endif
