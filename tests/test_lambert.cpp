@@ -32,13 +32,25 @@ TEST_CASE("lambert kernel matches the double reference over the whole sphere", "
     std::vector<glm::dvec3> ref(sweep.size());
     for (std::size_t i = 0; i < sweep.size(); ++i)
         ref[i] = ref::eval_material(sweep.dN[i], sweep.dL[i], sweep.dV[i], sweep.dP[i], m);
-    const auto e = test::compare(out, ref, 1e-3);
-    std::cout << "lambert: " << e.count << " triples, max abs err " << e.max_abs << ", max rel err " << e.max_rel
-              << " (|ref| >= 1e-3), non-finite " << e.non_finite << "\n";
-    INFO("worst triple " << e.worst << " (" << sweep.kind[e.worst] << ")");
-    CHECK(e.non_finite == 0);
-    CHECK(e.max_abs < 1e-6);
-    CHECK(e.max_rel < 2e-6);
+    // Float rounding of NoL (~6e-8 absolute) bounds the absolute error everywhere; relative error is
+    // tight only where NoL is not small (0.05: the rounding is then < 2e-6 of the value).
+    double max_abs = 0.0, max_rel = 0.0;
+    std::size_t non_finite = 0, worst = 0;
+    for (std::size_t i = 0; i < sweep.size(); ++i) {
+        const double NoL = glm::dot(sweep.dN[i], sweep.dL[i]);
+        for (int c = 0; c < 3; ++c) {
+            const double k = out[3 * i + std::size_t(c)], r = ref[i][c];
+            if (!std::isfinite(k)) { ++non_finite; continue; }
+            max_abs = std::max(max_abs, std::abs(k - r));
+            if (NoL >= 0.05 && std::abs(k - r) / r > max_rel) { max_rel = std::abs(k - r) / r; worst = i; }
+        }
+    }
+    std::cout << "lambert: " << sweep.size() << " triples, max abs err " << max_abs
+              << ", max rel err where NoL >= 0.05: " << max_rel << ", non-finite " << non_finite << "\n";
+    INFO("worst triple " << worst << " (" << sweep.kind[worst] << ")");
+    CHECK(non_finite == 0);
+    CHECK(max_abs < 2e-7);
+    CHECK(max_rel < 2e-6);
 }
 
 TEST_CASE("lambert is zero for light below the horizon and albedo at normal incidence", "[lambert][kernel]") {
@@ -61,9 +73,9 @@ TEST_CASE("lambert is zero for light below the horizon and albedo at normal inci
 }
 
 // End to end: a Lambert sphere under one directional light. Every covered pixel must equal
-// albedo * E * max(0, N.L) for the analytic normal at that point (normalize(P) on a unit sphere). The
-// mesh's interpolated normal differs from the analytic one by an angle that shrinks about 4x per
-// subdivision level; the tolerance is measured per level and the trend is asserted.
+// albedo * E * max(0, N.L) for the analytic normal: where the pixel's ray (eye through the fragment)
+// meets the exact unit sphere. The mesh's interpolated normal and its flat facets both differ from that,
+// by amounts that shrink about 4x per subdivision level; the bound per level is stated and the trend asserted.
 TEST_CASE("lambert sphere end to end matches the closed form, error shrinks with tessellation",
           "[lambert][e2e]") {
     const glm::dvec3 albedo{0.7, 0.5, 0.3};
@@ -76,7 +88,7 @@ TEST_CASE("lambert sphere end to end matches the closed form, error shrinks with
     setup.lights = {Light{Light::Type::Directional, Ldir, {1, 1, 1}, E, 0.0}};
     Shader shader(runtime());
     double previous = 1e9;
-    for (int level : {2, 3, 4, 5}) {
+    for (int level : {2, 3, 4, 5, 6}) {
         const Mesh sphere = make_icosphere(level);
         Camera cam = Camera::fit(sphere.bounds(), {0.2, 0.3, 1.0}, 35.0, 1.0);
         RasterOptions ro;
@@ -85,23 +97,40 @@ TEST_CASE("lambert sphere end to end matches the closed form, error shrinks with
         REQUIRE(fb.size() > 10000);
         setup.view = glm::dvec4(cam.eye, 1.0);
         const auto rgb = shader.shade(fb, setup);
-        double max_err = 0.0;
+        double max_err = 0.0, max_err_interior = 0.0;
+        std::size_t compared = 0;
         const std::size_t n = fb.size();
         for (std::size_t i = 0; i < n; ++i) {
-            const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]};
-            const glm::dvec3 Nexact = glm::normalize(P);
-            const double expect_g = albedo.y * E * std::max(0.0, glm::dot(Nexact, Ldir));
             REQUIRE(std::isfinite(rgb[n + i]));
-            max_err = std::max(max_err, std::abs(double(rgb[n + i]) - expect_g));
+            // Ray from the eye through the fragment, intersected with the unit sphere (nearest root).
+            const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]};
+            const glm::dvec3 d = glm::normalize(P - cam.eye);
+            const double b = glm::dot(cam.eye, d), c = glm::dot(cam.eye, cam.eye) - 1.0;
+            const double disc = b * b - c;
+            if (disc <= 0.0) continue;   // facets lie inside the sphere, so a rim pixel's ray may miss it
+            const glm::dvec3 Nexact = glm::normalize(cam.eye + (-b - std::sqrt(disc)) * d);
+            const double expect_g = albedo.y * E * std::max(0.0, glm::dot(Nexact, Ldir));
+            const double err = std::abs(double(rgb[n + i]) - expect_g);
+            max_err = std::max(max_err, err);
+            if (-glm::dot(Nexact, d) > 0.3) max_err_interior = std::max(max_err_interior, err);
+            ++compared;
         }
-        std::cout << "lambert sphere, icosphere level " << level << ": " << n << " pixels, max abs error "
-                  << max_err << " (of peak " << albedo.y * E << ")\n";
-        INFO("level " << level << " max error " << max_err << " previous " << previous);
-        CHECK(max_err < previous);   // finer mesh, smaller error
-        previous = max_err;
-        // Bound from the interpolated-normal angle: roughly (edge angle)^2 scaled by the peak value.
+        // Where the pixel's ray meets the flat facet and where it meets the true sphere differ by the
+        // facet's sagitta (about edge^2 / 8 radially), which moves the seen point along the surface by
+        // up to sagitta / tan(view angle): small facing the camera, large at the silhouette. Bounds, in
+        // units of the peak value: edge^2 where the true NoV > 0.3, and 6 edge^2 everywhere (measured
+        // ratios at levels 2-6: 2.1-5.4, growing as the rim's grazing pixels dominate).
         const double edge = 1.1071487 / std::pow(2.0, level);   // icosahedron edge angle / 2^level
-        CHECK(max_err < albedo.y * E * edge * edge);
+        const double peak = albedo.y * E;
+        std::cout << "lambert sphere, icosphere level " << level << ": " << compared << " of " << n
+                  << " pixels, max abs error " << max_err << " (" << max_err / (peak * edge * edge)
+                  << " edge^2), where NoV > 0.3: " << max_err_interior << " ("
+                  << max_err_interior / (peak * edge * edge) << " edge^2)\n";
+        INFO("level " << level << " max error " << max_err << " previous " << previous);
+        CHECK(compared > n * 9 / 10);
+        CHECK(max_err < previous);   // finer mesh, smaller error
+        CHECK(max_err_interior < peak * edge * edge);
+        CHECK(max_err < 6.0 * peak * edge * edge);
+        previous = max_err;
     }
-    CHECK(previous < 2e-3 * albedo.y * E * 10);
 }

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "core/error.hpp"
@@ -213,6 +214,8 @@ cl::Program Runtime::build(const std::string& main_file, const std::vector<std::
         } catch (const cl::Error&) {
             log = "(no build log)";
         }
+        // PoCL compiles a temporary copy of the source; name the real file so "file:line" can be followed.
+        log = std::regex_replace(log, std::regex(R"([^\s:'"]*tempfile_[A-Za-z0-9]+\.cl)"), path.string());
         throw Error("OpenCL build of '" + path.string() + "' failed (" + cl_error_name(e.err()) + ") on " +
                     device_description() + " with options '" + options + "':\n" + log);
     }

@@ -80,6 +80,9 @@ void write_image(const std::string& path, const Image& img) {
     if (img.channels == 4) spec.alpha_channel = 3;
     spec.attribute("oiio:ColorSpace", enc == Encoding::Srgb8 ? "sRGB" : "Linear");
     spec.attribute("Software", "shadelab");
+    // Colours are stored unassociated (straight) with alpha = coverage; tell the 8-bit writers not to
+    // divide by alpha (EXR keeps OpenImageIO's associated convention; covered pixels have alpha 1 anyway).
+    if (enc == Encoding::Srgb8) spec.attribute("oiio:UnassociatedAlpha", 1);
 
     bool ok = out->open(tmp.string(), spec);
     if (ok) {
@@ -111,7 +114,10 @@ void write_image(const std::string& path, const Image& img) {
 Image read_image(const std::string& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
-    auto in = OIIO::ImageInput::open(path);
+    // Keep straight alpha as stored (PNG): do not premultiply on read.
+    OIIO::ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    auto in = OIIO::ImageInput::open(path, &config);
     if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     Image img(spec.width, spec.height, spec.nchannels);
