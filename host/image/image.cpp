@@ -11,6 +11,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "core/error.hpp"
+#include "image/fits.hpp"
 
 namespace fs = std::filesystem;
 
@@ -51,13 +52,16 @@ Encoding encoding_for(const std::string& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga" || ext == ".webp")
         return Encoding::Srgb8;
-    if (ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".fits" || ext == ".pfm")
+    if (ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".fits" || ext == ".fit" ||
+        ext == ".fts" || ext == ".pfm")
         return Encoding::Linear;
     throw Error("output '" + path + "' has an unsupported extension: use .png (sRGB 8-bit) or .exr (linear float)"
                 " (also .jpg .bmp .tga .webp .hdr .tif .fits .pfm)");
 }
 
 void write_image(const std::string& path, const Image& img) {
+    // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
+    if (is_fits_path(path)) return write_fits(path, img);
     const Encoding enc = encoding_for(path);
     std::size_t bad = 0;
     for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
@@ -112,6 +116,7 @@ void write_image(const std::string& path, const Image& img) {
 }
 
 Image read_image(const std::string& path) {
+    if (is_fits_path(path)) return read_fits(path);
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
     // Keep straight alpha as stored (PNG): do not premultiply on read.

@@ -33,11 +33,11 @@ enum class Encoding { Linear, Srgb8 };
 // .png .jpg .jpeg .bmp .tga .webp: 8-bit sRGB; .exr .hdr .tif .tiff .fits .pfm: linear float.
 Encoding encoding_for(const std::string& path);
 
-// Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
+// FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
 // leaves a truncated image. Refuses (shadelab::Error) images holding NaN or Inf: they are bugs upstream.
 void write_image(const std::string& path, const Image& img);
 
-// Reads any format OpenImageIO reads; 8-bit sRGB-encoded formats are decoded to linear.
+// Reads any format OpenImageIO reads (FITS by image/fits.hpp); 8-bit sRGB-encoded formats are decoded to linear.
 Image read_image(const std::string& path);
 
 }  // namespace shadelab
