@@ -4,11 +4,16 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <sstream>
 
+// OpenMesh 9's PropertyT::push_back(T()) trips GCC 12's -Wmaybe-uninitialized inside the library's own
+// templates (a default-constructed VectorT); nothing of ours is uninitialised.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -45,6 +50,33 @@ std::vector<glm::dvec3> area_weighted_normals(const Mesh& m) {
         for (int k = 0; k < 3; ++k) n[t[k]] += fn;
     }
     return n;
+}
+
+// OpenMesh's OBJ reader drops a vertex it cannot parse ("nan", "inf") and then rejects the faces that use
+// it, which would surface as a misleading "no triangles". Read the vertex lines first and name the problem.
+void check_obj_coordinates(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::size_t bad = 0, line_no = 0, first_bad = 0;
+    while (std::getline(in, line)) {
+        ++line_no;
+        if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+        std::istringstream s(line.substr(2));
+        for (int k = 0; k < 3; ++k) {
+            std::string tok;
+            if (!(s >> tok)) break;
+            char* end = nullptr;
+            const double v = std::strtod(tok.c_str(), &end);
+            if (*end != '\0' || !std::isfinite(v)) {
+                if (!bad) first_bad = line_no;
+                ++bad;
+                break;
+            }
+        }
+    }
+    if (bad)
+        throw Error("mesh '" + path + "' has " + std::to_string(bad) + " vertices with NaN/Inf or unreadable " +
+                    "coordinates (first on line " + std::to_string(first_bad) + "): fix or remove them");
 }
 
 }  // namespace
@@ -88,6 +120,8 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
         throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
     if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
+
+    if (ext == ".obj") check_obj_coordinates(path);
 
     OMesh om;
     om.request_vertex_normals();
@@ -162,7 +196,8 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     // Normals: from the file where present and valid, else area-weighted; a vertex whose computed normal
     // cancels to zero (opposite faces meeting) takes the normal of one of its faces.
     const auto computed = area_weighted_normals(m);
-    r.normals_from_file = opt.check(OpenMesh::IO::Options::VertexNormal);
+    // STL stores facet normals only (OpenMesh may still flag vertex normals): compute them for STL.
+    r.normals_from_file = opt.check(OpenMesh::IO::Options::VertexNormal) && ext != ".stl";
     m.normals.resize(m.positions.size());
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         glm::dvec3 n(0.0);
