@@ -27,6 +27,8 @@ struct ClipVertex {
 struct SetupTriangle {
     std::int64_t x[3], y[3];      // 24.8 fixed point, y down
     std::int64_t area;            // twice the signed area, > 0 after orientation fix
+    double sx[3], sy[3];          // the unsnapped screen positions: attributes are interpolated from these,
+                                  // so snapping decides coverage only and costs no accuracy
     double z_ndc[3];              // depth, affine in screen space
     double inv_w[3];              // 1 / clip w, for perspective correction
     ClipVertex v[3];
@@ -95,6 +97,8 @@ bool setup_triangle(const ClipVertex v[3], int width, int height, bool cull, Set
         // 64-bit edge products cannot overflow (|coordinate| < 2^22 * 256).
         const double sx = std::clamp((nx * 0.5 + 0.5) * width, -4.0e6, 4.0e6);
         const double sy = std::clamp((0.5 - ny * 0.5) * height, -4.0e6, 4.0e6);
+        t.sx[k] = sx;
+        t.sy[k] = sy;
         t.x[k] = std::llround(sx * kSub);
         t.y[k] = std::llround(sy * kSub);
         t.z_ndc[k] = v[k].clip.z / w;
@@ -108,6 +112,7 @@ bool setup_triangle(const ClipVertex v[3], int width, int height, bool cull, Set
     if (cull && !front) { culled = true; return false; }
     if (t.area < 0) {
         std::swap(t.x[1], t.x[2]); std::swap(t.y[1], t.y[2]);
+        std::swap(t.sx[1], t.sx[2]); std::swap(t.sy[1], t.sy[2]);
         std::swap(t.z_ndc[1], t.z_ndc[2]); std::swap(t.inv_w[1], t.inv_w[2]);
         std::swap(t.v[1], t.v[2]);
         t.area = -t.area;
@@ -138,6 +143,19 @@ Coverage cover(const SetupTriangle& t, int px, int py) {
     };
     c.inside = ok(c.w0, 1, 2) && ok(c.w1, 2, 0) && ok(c.w2, 0, 1);
     return c;
+}
+
+// Screen-space barycentrics of a pixel centre from the unsnapped vertex positions (double precision).
+glm::dvec3 exact_barycentrics(const SetupTriangle& t, int px, int py) {
+    const double cx = px + 0.5, cy = py + 0.5;
+    auto e = [](double ax, double ay, double bx, double by, double x, double y) {
+        return (bx - ax) * (y - ay) - (by - ay) * (x - ax);
+    };
+    const double w0 = e(t.sx[1], t.sy[1], t.sx[2], t.sy[2], cx, cy);
+    const double w1 = e(t.sx[2], t.sy[2], t.sx[0], t.sy[0], cx, cy);
+    const double w2 = e(t.sx[0], t.sy[0], t.sx[1], t.sy[1], cx, cy);
+    const double sum = w0 + w1 + w2;
+    return sum != 0.0 ? glm::dvec3(w0, w1, w2) / sum : glm::dvec3(1.0 / 3.0);
 }
 
 void validate(const Camera& cam, const RasterOptions& o) {
@@ -206,10 +224,9 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
                 for (int x = t.min_x; x <= t.max_x; ++x) {
                     const Coverage c = cover(t, x, y);
                     if (!c.inside) continue;
-                    const double inv_area = 1.0 / double(t.area);
                     // Screen-space barycentrics; NDC depth is affine in screen space.
-                    const double b0 = double(c.w0) * inv_area, b1 = double(c.w1) * inv_area, b2 = double(c.w2) * inv_area;
-                    const double z = b0 * t.z_ndc[0] + b1 * t.z_ndc[1] + b2 * t.z_ndc[2];
+                    const glm::dvec3 b = exact_barycentrics(t, x, y);
+                    const double z = b.x * t.z_ndc[0] + b.y * t.z_ndc[1] + b.z * t.z_ndc[2];
                     if (z < -1.0 - 1e-9 || z > 1.0) continue;   // beyond the far plane (near is clipped)
                     const std::size_t p = std::size_t(y) * W + x;
                     // Nearest wins; exact ties go to the lower triangle index, which was written first.
@@ -238,10 +255,10 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
                 const std::size_t p = std::size_t(y) * W + x;
                 if (owner[p] < 0) continue;
                 const SetupTriangle& t = tris[std::size_t(owner[p])];
-                const Coverage c = cover(t, x, y);
+                const glm::dvec3 b = exact_barycentrics(t, x, y);
                 // Perspective-correct weights: screen barycentrics divided by clip w, renormalised
                 // (attributes/w are affine in screen space; Low 2002, "Perspective-Correct Interpolation").
-                const double q0 = double(c.w0) * t.inv_w[0], q1 = double(c.w1) * t.inv_w[1], q2 = double(c.w2) * t.inv_w[2];
+                const double q0 = b.x * t.inv_w[0], q1 = b.y * t.inv_w[1], q2 = b.z * t.inv_w[2];
                 const double s = q0 + q1 + q2;
                 const double l0 = q0 / s, l1 = q1 / s, l2 = q2 / s;
                 const glm::dvec3 P = l0 * t.v[0].world + l1 * t.v[1].world + l2 * t.v[2].world;
