@@ -16,6 +16,12 @@ struct FragmentBuffer {
     std::vector<int32_t> pixel;      // y * width + x (y = 0 is the top row); -1 for surface samples
     std::vector<float> depth;        // view-space distance along the camera axis (positive); 0 for samples
 
+    // Filled by rasterize() only (empty for surface samples and hand-built buffers): the mesh triangle
+    // each fragment lies on and its perspective-correct barycentric weights of that triangle's vertices
+    // 1 and 2 (vertex 0's is 1 - b1 - b2). Per-vertex (Gouraud) evaluation interpolates with these.
+    std::vector<std::int32_t> triangle;
+    std::vector<float> b1, b2;
+
     std::size_t size() const { return px.size(); }
     bool empty() const { return px.empty(); }
 
@@ -23,6 +29,7 @@ struct FragmentBuffer {
         px.clear(); py.clear(); pz.clear();
         nx.clear(); ny.clear(); nz.clear();
         pixel.clear(); depth.clear();
+        triangle.clear(); b1.clear(); b2.clear();
     }
     void reserve(std::size_t n) {
         px.reserve(n); py.reserve(n); pz.reserve(n);

@@ -20,6 +20,7 @@ struct ClipVertex {
     glm::dvec4 clip;
     glm::dvec3 world;
     glm::dvec3 normal;
+    glm::dvec3 bary;   // barycentric position in the original mesh triangle (survives clipping)
 };
 
 // A triangle ready for rasterisation: fixed-point screen positions (1/256 pixel, as GPUs snap), so the
@@ -32,6 +33,7 @@ struct SetupTriangle {
     double z_ndc[3];              // depth, affine in screen space
     double inv_w[3];              // 1 / clip w, for perspective correction
     ClipVertex v[3];
+    std::int32_t mesh_triangle;       // index of the mesh triangle it came from
     int min_x, max_x, min_y, max_y;   // pixel bounding box, clamped to the image
 };
 
@@ -51,6 +53,7 @@ ClipVertex intersect_near(const ClipVertex& p, const ClipVertex& q) {
     r.clip = a.clip + t * (b.clip - a.clip);
     r.world = a.world + t * (b.world - a.world);
     r.normal = a.normal + t * (b.normal - a.normal);
+    r.bary = a.bary + t * (b.bary - a.bary);
     return r;
 }
 
@@ -189,9 +192,14 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
     // Clip and set up, in mesh order (the order is the depth tie-break).
     std::vector<SetupTriangle> tris;
     tris.reserve(mesh.triangles.size());
-    for (const auto& tri : mesh.triangles) {
+    for (std::size_t mt = 0; mt < mesh.triangles.size(); ++mt) {
+        const auto& tri = mesh.triangles[mt];
         ClipVertex v[3];
-        for (int k = 0; k < 3; ++k) v[k] = {clip[tri[k]], mesh.positions[tri[k]], mesh.normals[tri[k]]};
+        for (int k = 0; k < 3; ++k) {
+            glm::dvec3 unit(0.0);
+            unit[k] = 1.0;
+            v[k] = {clip[tri[k]], mesh.positions[tri[k]], mesh.normals[tri[k]], unit};
+        }
         if (outside_frustum(v)) { ++st.triangles_culled; continue; }
         ClipVertex poly[4];
         int n = 3;
@@ -205,6 +213,7 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
             const ClipVertex f[3] = {poly[0], poly[k], poly[k + 1]};
             SetupTriangle t;
             bool culled = false;
+            t.mesh_triangle = std::int32_t(mt);
             if (setup_triangle(f, W, H, options.cull_backfaces, t, culled)) tris.push_back(t);
             else if (culled && k == 1) ++st.triangles_culled;
         }
@@ -268,7 +277,11 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
                 else N = glm::normalize(glm::cross(t.v[1].world - t.v[0].world, t.v[2].world - t.v[0].world));
                 if (options.flip_normals_to_viewer && glm::dot(N, camera.eye - P) < 0.0) N = -N;
                 const double d = glm::dot(P - camera.eye, fwd);
+                const glm::dvec3 bary = l0 * t.v[0].bary + l1 * t.v[1].bary + l2 * t.v[2].bary;
                 out.push_back(float(P.x), float(P.y), float(P.z), float(N.x), float(N.y), float(N.z), std::int32_t(p), float(d));
+                out.triangle.push_back(t.mesh_triangle);
+                out.b1.push_back(float(bary.y));
+                out.b2.push_back(float(bary.z));
             }
     };
     {
@@ -290,6 +303,9 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
         fb.nz.insert(fb.nz.end(), part.nz.begin(), part.nz.end());
         fb.pixel.insert(fb.pixel.end(), part.pixel.begin(), part.pixel.end());
         fb.depth.insert(fb.depth.end(), part.depth.begin(), part.depth.end());
+        fb.triangle.insert(fb.triangle.end(), part.triangle.begin(), part.triangle.end());
+        fb.b1.insert(fb.b1.end(), part.b1.begin(), part.b1.end());
+        fb.b2.insert(fb.b2.end(), part.b2.begin(), part.b2.end());
     }
     fb.width = W;
     fb.height = H;
