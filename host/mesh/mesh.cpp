@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <random>
 #include <sstream>
@@ -128,9 +129,11 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
     // OpenMesh reports non-manifold input ("complex edge") on its own log stream; capture it as notes.
     std::ostringstream omlog;
+    omerr().disconnect(std::cerr);
     omerr().connect(omlog);
     const bool ok = OpenMesh::IO::read_mesh(om, path, opt);
     omerr().disconnect(omlog);
+    omerr().connect(std::cerr);
     if (!ok) throw Error("cannot read mesh '" + path + "': the file is not valid " + ext.substr(1) + " (OpenMesh refused it)");
 
     r.vertices_in = om.n_vertices();
