@@ -11,6 +11,8 @@
 #include "mesh/mesh.hpp"
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
+#include "plan/planner.hpp"
+#include "shade/gouraud.hpp"
 #include "shade/shader.hpp"
 
 namespace shadelab::app {
@@ -33,6 +35,10 @@ struct RenderArgs {
     std::string background = "0,0,0,0";
     bool cull = false;
     bool quiet = false;
+    std::string precision = "precise";
+    bool per_vertex = false;
+    double tolerance = 0.0;            // > 0: plan (docs/planner.md) and render the cheapest config within it
+    std::string metric = "de2000";
 };
 
 void parse_size(const std::string& s, int& w, int& h) {
@@ -109,8 +115,30 @@ void run_render(const RenderArgs& a) {
     setup.lights = lights;
     setup.ambient = parse_vec3(a.ambient, "--ambient");
     setup.view = glm::dvec4(cam.eye, 1.0);
+    setup.precision = parse_precision(a.precision);
+    bool per_vertex = a.per_vertex;
+    if (a.tolerance > 0.0) {
+        PlanInput pin;
+        pin.camera = cam;
+        pin.width = w;
+        pin.height = h;
+        pin.items.push_back(PlanItem{mesh, mat, a.cull, -1, glm::dmat4(1.0)});
+        pin.lights = lights;
+        pin.ambient = setup.ambient;
+        PlanOptions po;
+        po.tolerance = a.tolerance;
+        if (a.metric == "relative") po.metric = PlanMetric::Relative;
+        else if (a.metric != "de2000") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
+        const Plan plan = make_plan(rt, pin, po);
+        if (!a.quiet) std::cerr << format_plan(plan, po);
+        setup.material = plan_material(mat, plan.chosen.config);
+        setup.lights = plan.kept_lights;
+        setup.precision = plan.chosen.config.precision;
+        per_vertex = plan.chosen.config.per_vertex;
+    }
     ShadeTiming st;
-    const auto rgb = shader.shade(fb, setup, &st);
+    const auto rgb = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, setup, &st))
+                                : shader.shade(fb, setup, &st);
     const auto t3 = clock::now();
     const Image img = compose_image(fb, rgb, parse_vec4(a.background, "--background", 1.0));
     write_image(a.output, img);
@@ -151,6 +179,13 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--background", args->background, "Background r,g,b[,a] (linear; alpha 0 = transparent)")
         ->capture_default_str();
     cmd->add_flag("--cull", args->cull, "Cull back faces");
+    cmd->add_option("--precision", args->precision, "Kernel precision: precise or fast (docs/precision.md)")
+        ->capture_default_str();
+    cmd->add_flag("--per-vertex", args->per_vertex, "Shade at vertices and interpolate (Gouraud) instead of per pixel");
+    cmd->add_option("--tolerance", args->tolerance,
+                    "Plan first: render the cheapest configuration whose error stays within this (docs/planner.md)");
+    cmd->add_option("--metric", args->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path");
     cmd->callback([args] { run_render(*args); });
 }

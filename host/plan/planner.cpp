@@ -1,0 +1,260 @@
+#include "plan/planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "color/image_compare.hpp"
+#include "core/error.hpp"
+#include "image/image.hpp"
+#include "models/catalogue.hpp"
+#include "raster/raster.hpp"
+#include "reference/reference.hpp"
+#include "shade/gouraud.hpp"
+
+namespace shadelab {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+// One rasterisation of every item at one size (and tessellation).
+struct Frame {
+    int width = 0, height = 0;
+    std::vector<Mesh> meshes;
+    std::vector<FragmentBuffer> fragments;
+};
+
+Frame raster_frame(const PlanInput& in, int w, int h, int level) {
+    Frame f;
+    f.width = w;
+    f.height = h;
+    for (const PlanItem& it : in.items) {
+        Mesh m = it.mesh;
+        if (it.icosphere_level >= 0 && level >= 0 && level != it.icosphere_level) {
+            m = make_icosphere(level);
+            m.transform(it.icosphere_transform);
+        }
+        RasterOptions ro;
+        ro.width = w;
+        ro.height = h;
+        ro.cull_backfaces = it.cull_backfaces;
+        f.fragments.push_back(rasterize(m, in.camera, ro));
+        f.meshes.push_back(std::move(m));
+    }
+    return f;
+}
+
+// Nearest item wins per pixel (ties: the earlier item), as the batch renderer composes meshes.
+Image compose(const Frame& f, const std::vector<std::vector<float>>& planes) {
+    Image img(f.width, f.height, 4);
+    std::vector<float> zbuf(std::size_t(f.width) * f.height, std::numeric_limits<float>::infinity());
+    for (std::size_t k = 0; k < f.fragments.size(); ++k) {
+        const FragmentBuffer& fb = f.fragments[k];
+        const std::size_t n = fb.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t p = std::size_t(fb.pixel[i]);
+            if (!(fb.depth[i] < zbuf[p])) continue;
+            zbuf[p] = fb.depth[i];
+            for (std::size_t c = 0; c < 3; ++c) img.pixels[p * 4 + c] = planes[k][c * n + i];
+            img.pixels[p * 4 + 3] = 1.0f;
+        }
+    }
+    return img;
+}
+
+std::vector<float> reference_planes(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
+                                    const glm::dvec3& ambient, const glm::dvec3& eye) {
+    const std::size_t n = fb.size();
+    std::vector<float> out(3 * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
+        const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(eye - P), m, lights, ambient);
+        for (std::size_t c = 0; c < 3; ++c) out[c * n + i] = float(v[int(c)]);
+    }
+    return out;
+}
+
+struct Shaded {
+    std::vector<std::vector<float>> planes;
+    double time_ms = 0.0;   // kernel device time (+ host interpolation for per-vertex)
+};
+
+Shaded shade_frame(Shader& shader, const Frame& f, const PlanInput& in, const std::vector<Light>& lights,
+                   const PlanConfig& cfg) {
+    Shaded s;
+    for (std::size_t k = 0; k < f.fragments.size(); ++k) {
+        ShadeSetup setup;
+        setup.material = plan_material(in.items[k].material, cfg);
+        setup.lights = lights;
+        setup.ambient = in.ambient;
+        setup.view = glm::dvec4(in.camera.eye, 1.0);
+        setup.precision = cfg.precision;
+        ShadeTiming t;
+        if (cfg.per_vertex) {
+            const auto vp = shade_vertices(shader, f.meshes[k], setup, &t);
+            const auto t0 = clock_type::now();
+            s.planes.push_back(interpolate_to_fragments(f.fragments[k], f.meshes[k], vp));
+            s.time_ms += t.kernel_ms + std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+        } else {
+            s.planes.push_back(shader.shade(f.fragments[k], setup, &t));
+            s.time_ms += t.kernel_ms;
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+std::string PlanConfig::label() const {
+    std::string s = simplify_to_lambert ? "lambert" : "as requested";
+    s += std::string(", ") + precision_name(precision);
+    s += per_vertex ? ", per vertex" : ", per pixel";
+    if (icosphere_level >= 0) s += ", icosphere level " + std::to_string(icosphere_level);
+    return s;
+}
+
+Material plan_material(const Material& requested, const PlanConfig& config) {
+    if (!config.simplify_to_lambert || requested.model == "lambert" || !requested.children.empty()) return requested;
+    Material m;
+    m.model = "lambert";
+    m.albedo = requested.albedo;
+    const auto kd = requested.params.find("kd");   // Cook-Torrance-like diffuse weight
+    if (kd != requested.params.end()) m.albedo *= kd->second;
+    return resolve_material(m);
+}
+
+Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt) {
+    if (in_raw.items.empty()) throw Error("plan: the scene has no meshes");
+    if (!(opt.tolerance > 0.0) || !std::isfinite(opt.tolerance))
+        throw Error("plan: tolerance must be a finite number > 0 (Delta E 2000 or relative error)");
+    PlanInput in = in_raw;
+    for (auto& it : in.items) it.material = resolve_material(it.material);
+    Shader shader(runtime);
+    Plan plan;
+
+    // Full resolution: the fragments the timings and the light test run on.
+    const Frame full = raster_frame(in, in.width, in.height, -1);
+
+    // Lights that contribute exactly nothing to any fragment of any mesh are dropped (for this model: a
+    // wrap model lights the back side, so the horizon test is the reference itself, not NoL).
+    for (std::size_t j = 0; j < in.lights.size(); ++j) {
+        bool contributes = false;
+        for (std::size_t k = 0; k < full.fragments.size() && !contributes; ++k) {
+            const FragmentBuffer& fb = full.fragments[k];
+            for (std::size_t i = 0; i < fb.size() && !contributes; ++i) {
+                const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
+                const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(in.camera.eye - P), in.items[k].material,
+                                                      {in.lights[j]}, glm::dvec3(0.0));
+                contributes = v.x != 0.0 || v.y != 0.0 || v.z != 0.0;
+            }
+        }
+        if (contributes) plan.kept_lights.push_back(in.lights[j]);
+        else
+            plan.dropped_lights.push_back("light " + std::to_string(j + 1) +
+                                          (in.lights[j].type == Light::Type::Directional ? " (directional)" : " (point)") +
+                                          ": contributes nothing to any fragment, compiled out");
+    }
+
+    // Verification renders at reduced size when the image is large.
+    const double pixels = double(in.width) * in.height;
+    const double scale = pixels > opt.verify_pixels ? std::sqrt(opt.verify_pixels / pixels) : 1.0;
+    plan.verify_width = std::max(1, int(std::lround(in.width * scale)));
+    plan.verify_height = std::max(1, int(std::lround(in.height * scale)));
+    if (scale < 1.0)
+        plan.notes.push_back("errors verified at " + std::to_string(plan.verify_width) + "x" +
+                             std::to_string(plan.verify_height) + " (reduced from " + std::to_string(in.width) + "x" +
+                             std::to_string(in.height) + "); timings at full resolution");
+    const Frame verify = raster_frame(in, plan.verify_width, plan.verify_height, -1);
+    std::vector<std::vector<float>> ref_planes;
+    for (std::size_t k = 0; k < verify.fragments.size(); ++k)
+        ref_planes.push_back(reference_planes(verify.fragments[k], in.items[k].material, in.lights, in.ambient, in.camera.eye));
+    const Image reference = compose(verify, ref_planes);
+
+    // The configurations.
+    bool can_simplify = false;
+    int sphere_level = -1;
+    for (const auto& it : in.items) {
+        can_simplify = can_simplify || (it.material.model != "lambert" && it.material.children.empty());
+        sphere_level = std::max(sphere_level, it.icosphere_level);
+    }
+    std::vector<PlanConfig> configs;
+    std::vector<int> levels{-1};
+    for (int l = sphere_level - 1; l >= std::max(0, sphere_level - 3); --l) levels.push_back(l);
+    for (bool simplify : {false, true}) {
+        if (simplify && !can_simplify) continue;
+        for (Precision p : {Precision::Precise, Precision::Fast})
+            for (bool pv : {false, true})
+                for (int l : levels) configs.push_back(PlanConfig{simplify, p, pv, l});
+    }
+
+    std::vector<Frame> full_levels, verify_levels;   // per entry of `levels`
+    for (int l : levels) {
+        full_levels.push_back(l < 0 ? full : raster_frame(in, in.width, in.height, l));
+        verify_levels.push_back(l < 0 ? verify : raster_frame(in, plan.verify_width, plan.verify_height, l));
+    }
+
+    for (const PlanConfig& cfg : configs) {
+        const std::size_t li = std::size_t(std::find(levels.begin(), levels.end(), cfg.icosphere_level) - levels.begin());
+        PlanMeasure m;
+        m.config = cfg;
+        const Shaded v = shade_frame(shader, verify_levels[li], in, plan.kept_lights, cfg);
+        const ImageDiff d = compare_images(compose(verify_levels[li], v.planes), reference, 1e-3);
+        m.de_max = d.de_max;
+        m.de_p99 = d.de_p99;
+        m.de_mean = d.de_mean;
+        m.rel_max = d.rel_max;
+        // Pixels covered by one render only (a coarser sphere's silhouette) count as full errors.
+        if (d.coverage_mismatch) { m.de_max = std::max(m.de_max, 100.0); m.rel_max = std::max(m.rel_max, 1.0); }
+        m.error = opt.metric == PlanMetric::DeltaE2000 ? m.de_max : m.rel_max;
+        m.within = m.error <= opt.tolerance;
+        // Best of at least `timing_repeats` runs, and more for small scenes (until 25 ms of shading have
+        // been timed, at most 40 runs), so sub-millisecond kernels are not compared on jitter.
+        double best = std::numeric_limits<double>::infinity(), spent = 0.0;
+        for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
+            const double t = shade_frame(shader, full_levels[li], in, plan.kept_lights, cfg).time_ms;
+            best = std::min(best, t);
+            spent += t;
+        }
+        m.time_ms = best;
+        plan.candidates.push_back(m);
+    }
+    plan.requested = plan.candidates.front();   // as requested, precise, per pixel, requested tessellation
+    plan.chosen = plan.requested;
+    for (auto& m : plan.candidates) {
+        m.speedup = m.time_ms > 0.0 ? plan.requested.time_ms / m.time_ms : 1.0;
+        // Switch only for a clear gain (5%): timings on a shared machine jitter, and an equal-cost change
+        // (fast mode of a model without transcendental calls) is no reason to move off what was asked.
+        if (m.within && m.time_ms < 0.95 * plan.chosen.time_ms) plan.chosen = m;
+    }
+    plan.chosen.speedup = plan.chosen.time_ms > 0.0 ? plan.requested.time_ms / plan.chosen.time_ms : 1.0;
+    if (!plan.requested.within)
+        plan.notes.push_back("even the requested configuration is off the double reference by more than the tolerance "
+                             "(float rounding): the requested configuration is kept");
+    return plan;
+}
+
+std::string format_plan(const Plan& p, const PlanOptions& opt) {
+    std::ostringstream s;
+    const char* metric = opt.metric == PlanMetric::DeltaE2000 ? "max Delta E 2000" : "max relative error";
+    s << "tolerance: " << metric << " <= " << opt.tolerance << "\n";
+    for (const auto& d : p.dropped_lights) s << "dropped " << d << "\n";
+    for (const auto& n : p.notes) s << "note: " << n << "\n";
+    s << std::left << std::setw(50) << "configuration" << std::right << std::setw(12) << "dE00 max" << std::setw(12)
+      << "dE00 p99" << std::setw(12) << "rel max" << std::setw(12) << "time ms" << std::setw(10) << "speed-up" << "\n";
+    for (const auto& m : p.candidates) {
+        const bool chosen = m.config.label() == p.chosen.config.label();
+        s << std::left << std::setw(50) << ((chosen ? "* " : (m.within ? "  " : "x ")) + m.config.label()) << std::right
+          << std::setw(12) << std::setprecision(3) << m.de_max << std::setw(12) << m.de_p99 << std::setw(12) << m.rel_max
+          << std::setw(12) << std::setprecision(4) << m.time_ms << std::setw(10) << std::setprecision(3) << m.speedup << "\n";
+    }
+    s << "chosen: " << p.chosen.config.label() << " (" << metric << " " << p.chosen.error << ", measured speed-up "
+      << p.chosen.speedup << "x)\n";
+    s << "(* chosen, x over tolerance; time = full-resolution shading: kernel device time, plus host interpolation for per-vertex)\n";
+    return s.str();
+}
+
+}  // namespace shadelab

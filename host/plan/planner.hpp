@@ -1,0 +1,88 @@
+// The planner: model no more than a scene needs. Given a scene and the error a user accepts, it measures
+// cheaper configurations against the precise per-pixel double reference and keeps the cheapest one that
+// stays within the tolerance. Every choice is verified by rendering, never predicted only.
+//
+// Configurations tried (the same choice applied to every mesh of the scene):
+//   model      the requested one, or Lambert with the same albedo (Oren-Nayar at small sigma, Minnaert at
+//              its Lambert k, specular terms that never reach the tolerance all reduce to it);
+//   precision  precise or fast (kernels/common.cl);
+//   evaluation per pixel, or per vertex (Gouraud: shade the vertices, interpolate);
+//   tessellation  for icosphere meshes (analytic spheres), coarser levels.
+// Lights that contribute exactly nothing to any fragment (below every surface's horizon for this model,
+// beyond their range) are dropped from every configuration, so their code is compiled out.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "cl/runtime.hpp"
+#include "mesh/mesh.hpp"
+#include "models/material.hpp"
+#include "raster/camera.hpp"
+#include "shade/shader.hpp"
+
+namespace shadelab {
+
+struct PlanItem {
+    Mesh mesh;                 // world space
+    Material material;
+    bool cull_backfaces = false;
+    int icosphere_level = -1;  // >= 0: the mesh is make_icosphere(level) (transformed): coarser levels are tried
+    glm::dmat4 icosphere_transform{1.0};
+};
+
+struct PlanInput {
+    Camera camera;
+    int width = 512, height = 512;
+    std::vector<PlanItem> items;
+    std::vector<Light> lights;
+    glm::dvec3 ambient{0.0};
+};
+
+enum class PlanMetric { DeltaE2000, Relative };   // max Delta E 2000, or max relative error (linear values)
+
+struct PlanOptions {
+    double tolerance = 1.0;
+    PlanMetric metric = PlanMetric::DeltaE2000;
+    int verify_pixels = 256 * 256;   // verification renders are reduced to about this many pixels (stated)
+    int timing_repeats = 3;          // at least N kernel timings at full resolution, more for small scenes (best kept)
+};
+
+struct PlanConfig {
+    bool simplify_to_lambert = false;
+    Precision precision = Precision::Precise;
+    bool per_vertex = false;
+    int icosphere_level = -1;        // -1: as requested
+    std::string label() const;
+};
+
+struct PlanMeasure {
+    PlanConfig config;
+    double de_max = 0.0, de_p99 = 0.0, de_mean = 0.0;   // Delta E 2000 against the reference
+    double rel_max = 0.0;                                // max relative error where the reference >= 1e-3
+    double error = 0.0;                                  // the metric the tolerance applies to
+    double time_ms = 0.0;                                // full-resolution shading cost (best of N)
+    double speedup = 1.0;                                // requested time / this time
+    bool within = false;
+    bool applicable = true;                              // false: the option changes nothing here
+};
+
+struct Plan {
+    PlanMeasure requested;
+    PlanMeasure chosen;
+    std::vector<PlanMeasure> candidates;
+    std::vector<std::string> dropped_lights;   // "light 2 (directional): contributes 0 to every fragment"
+    std::vector<Light> kept_lights;
+    int verify_width = 0, verify_height = 0;
+    std::vector<std::string> notes;
+};
+
+Plan make_plan(Runtime& runtime, const PlanInput& input, const PlanOptions& options);
+
+// The materials a configuration renders with (Lambert keeps the albedo, and a Cook-Torrance-like "kd"
+// diffuse weight if the model has one).
+Material plan_material(const Material& requested, const PlanConfig& config);
+
+// Prints the plan as a table.
+std::string format_plan(const Plan& plan, const PlanOptions& options);
+
+}  // namespace shadelab
