@@ -56,6 +56,18 @@ SL_INLINE float sl_fast_pow(float x, float y) {
     const float r = native_exp2(y * native_log2(x));
     return x == 0.0f ? (y == 0.0f ? 1.0f : (y > 0.0f ? 0.0f : INFINITY)) : r;
 }
+// PoCL's own headers already define most built-ins as macros: undefine them first (no redefinition warnings).
+#undef pow
+#undef powr
+#undef exp
+#undef exp2
+#undef log
+#undef log2
+#undef sqrt
+#undef rsqrt
+#undef sin
+#undef cos
+#undef tan
 #define pow(x, y) sl_fast_pow((x), (y))
 #define powr(x, y) sl_fast_pow((x), (y))
 #define exp(x) native_exp(x)
