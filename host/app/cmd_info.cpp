@@ -11,7 +11,7 @@ void add_models_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("models", "List every lighting model with its parameters and ranges");
     cmd->callback([] {
         for (const auto& m : model_catalogue()) {
-            std::cout << std::left << std::setw(26) << m.name << m.summary << "\n";
+            std::cout << std::left << std::setw(32) << m.name << m.summary << "\n";
             for (const auto& p : m.params)
                 std::cout << "    " << std::setw(14) << p.name << "default " << p.def << ", range [" << p.lo << ", "
                           << p.hi << "]  " << p.doc << "\n";
