@@ -12,8 +12,8 @@ PACKAGES=(
   libopenmesh-dev libopenimageio-dev openimageio-tools libglm-dev
   # command line, JSON, tests
   libcli11-dev nlohmann-json3-dev catch2
-  # charts (gnuplot renders the PNG plots)
-  gnuplot-nox
+  # charts (gnuplot renders the PNG plots); the font the contact sheet's labels use
+  gnuplot-nox fonts-dejavu-core
 )
 
 missing=()

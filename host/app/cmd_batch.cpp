@@ -1,0 +1,121 @@
+// shadelab batch: many scenes (or one template over a folder of meshes) in one process;
+// shadelab contact: every model on a sphere and a mesh, labelled, in one image.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "app/commands.hpp"
+#include "cl/runtime.hpp"
+#include "core/error.hpp"
+#include "scene/batch.hpp"
+#include "scene/contact.hpp"
+#include "scene/scene.hpp"
+
+namespace shadelab::app {
+
+namespace {
+
+struct BatchArgs {
+    std::vector<std::string> scenes;
+    std::string meshes, scene_template;
+    std::string out = "out";
+    std::string report;
+    std::string shard = "1/1";
+    std::string progress = "auto";
+    bool force = false;
+    bool no_overlap = false;
+    bool contact = false;
+    bool list = false;
+};
+
+struct ContactArgs {
+    ContactOptions opt;
+    std::vector<std::string> models;
+};
+
+void print_contact(const ContactResult& r) {
+    std::cerr << "contact sheet: " << r.models << " models, " << r.width << "x" << r.height << ", "
+              << (r.labelled ? "labels in " + r.font : "labels in " + r.legend) << ", " << int(r.ms) << " ms\n";
+    std::cout << r.output << "\n";
+}
+
+void run_batch_command(const BatchArgs& a) {
+    BatchOptions o;
+    o.scenes = a.scenes;
+    o.mesh_dir = a.meshes;
+    o.template_scene = a.scene_template;
+    o.out_dir = a.out;
+    o.report = a.report;
+    const auto shard = parse_shard(a.shard);
+    o.shard_index = shard.first;
+    o.shard_count = shard.second;
+    o.force = a.force;
+    o.overlap = !a.no_overlap;
+    o.progress = parse_progress_style(a.progress);
+    if (a.list) {
+        // The jobs this shard would run, in order: a dry run for checking a sharding plan.
+        for (const auto& j : plan_batch(o)) std::cout << j.index << "\t" << j.scene << (j.mesh.empty() ? "" : "\t" + j.mesh) << "\n";
+        return;
+    }
+    Runtime rt;
+    const BatchSummary s = run_batch(o, rt);
+    if (a.contact) {
+        ContactOptions co;
+        co.output = (std::filesystem::path(a.out) / "contact_sheet.png").string();
+        print_contact(make_contact_sheet(co, rt));
+    }
+    if (s.failed)
+        throw Error("batch: " + std::to_string(s.failed) + " of " + std::to_string(s.jobs.size()) +
+                    " jobs failed (each is a 'scene ...' line above; details in " + s.report_json + ")");
+}
+
+}  // namespace
+
+void add_batch_command(CLI::App& app) {
+    auto a = std::make_shared<BatchArgs>();
+    auto* cmd = app.add_subcommand(
+        "batch",
+        "Shade many scene files (or one template scene over a folder of meshes) in one process; schema in docs/batch.md");
+    cmd->add_option("scenes", a->scenes, "Scene files (.json) or folders of them");
+    cmd->add_option("--meshes", a->meshes, "Template mode: shade every .obj .off .ply .stl in this folder ...");
+    cmd->add_option("--scene", a->scene_template, "... with this template scene (its one mesh entry is replaced)");
+    cmd->add_option("-o,--out", a->out, "Folder that relative output paths of the scenes are written under")
+        ->capture_default_str();
+    cmd->add_option("--report", a->report,
+                    "Report path (.json; a .csv is written beside it). Default: OUT/batch_report.json "
+                    "(OUT/batch_report_shardIofN.json when sharded)");
+    cmd->add_option("--shard", a->shard,
+                    "i/N: run only the jobs whose index in the sorted job list satisfies index % N == i-1")
+        ->capture_default_str();
+    cmd->add_flag("--force", a->force, "Re-render outputs that are newer than their scene and meshes");
+    cmd->add_flag("--no-overlap", a->no_overlap,
+                  "Rasterise each job right before it shades instead of during the previous job's shading");
+    cmd->add_option("--progress", a->progress, "auto (bar on a terminal, lines otherwise), bar, lines or quiet")
+        ->capture_default_str();
+    cmd->add_flag("--contact", a->contact, "Also write OUT/contact_sheet.png (see 'shadelab contact')");
+    cmd->add_flag("--list", a->list, "Print this shard's jobs (index, scene, mesh) and exit without rendering");
+    cmd->callback([a] { run_batch_command(*a); });
+
+    auto c = std::make_shared<ContactArgs>();
+    auto* con = app.add_subcommand("contact",
+                                   "One image with every model of the catalogue (default parameters) on a sphere "
+                                   "and on a mesh, labelled");
+    con->add_option("-o,--output", c->opt.output, "Output image (.png sRGB or .exr linear)")->capture_default_str();
+    con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere")->capture_default_str();
+    con->add_option("--turn", c->opt.mesh_turn_deg, "Turn the mesh this many degrees about +y")->capture_default_str();
+    con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();
+    con->add_option("--columns", c->opt.columns, "Model tiles per row (0: about 4:3)")->capture_default_str();
+    con->add_option("-m,--model", c->models, "Only these models (repeatable; default: the whole catalogue)");
+    con->callback([c] {
+        ContactOptions o = c->opt;
+        o.models = c->models;
+        Runtime rt;
+        const ContactResult r = make_contact_sheet(o, rt);
+        print_contact(r);
+        if (!r.failed.empty())
+            throw Error("contact sheet: " + std::to_string(r.failed.size()) + " models failed to shade (listed above); "
+                        "the sheet was written with their tiles empty");
+    });
+}
+
+}  // namespace shadelab::app

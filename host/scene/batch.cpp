@@ -1,0 +1,702 @@
+// The batch runner (see batch.hpp for the shape of a run).
+#include "scene/batch.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "image/image.hpp"
+#include "mesh/mesh.hpp"
+#include "raster/raster.hpp"
+#include "scene/scene.hpp"
+#include "shade/shader.hpp"
+
+namespace fs = std::filesystem;
+
+namespace shadelab {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+double ms_since(clock_type::time_point t0) {
+    return std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+}
+
+std::string lower_ext(const fs::path& p) {
+    std::string e = p.extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+bool is_mesh_file(const fs::path& p) {
+    const std::string e = lower_ext(p);
+    return e == ".obj" || e == ".off" || e == ".ply" || e == ".stl";
+}
+
+std::string model_label(const Material& m) {
+    std::string s = m.model;
+    if (!m.children.empty()) {
+        s += "(";
+        for (std::size_t i = 0; i < m.children.size(); ++i) s += (i ? "," : "") + m.children[i].model;
+        s += ")";
+    }
+    return s;
+}
+
+// Loaded meshes, kept across jobs (several scenes often share one mesh). Keyed by path and modification
+// time; a few entries only, oldest dropped first.
+class MeshCache {
+public:
+    Mesh get(const std::string& path) {
+        std::error_code ec;
+        const auto mtime = fs::last_write_time(path, ec);
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            for (const auto& e : entries_)
+                if (e.path == path && e.mtime == mtime) return e.mesh;
+        }
+        Mesh m = load_mesh(path);
+        std::lock_guard<std::mutex> lock(mutex_);
+        entries_.push_back({path, mtime, m});
+        if (entries_.size() > kEntries) entries_.erase(entries_.begin());
+        return m;
+    }
+
+private:
+    static constexpr std::size_t kEntries = 8;
+    struct Entry {
+        std::string path;
+        fs::file_time_type mtime;
+        Mesh mesh;
+    };
+    std::mutex mutex_;
+    std::vector<Entry> entries_;
+};
+
+// A job after parsing and rasterisation, ready to shade (or already settled: skipped or failed).
+struct Prepared {
+    JobResult result;
+    Scene scene;
+    FragmentBuffer fb;
+    std::vector<std::uint16_t> mesh_of;   // mesh index of each fragment
+    glm::dvec3 eye{0.0};
+    bool settled = false;                  // skipped or failed: nothing to shade
+    std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
+};
+
+// Outputs are up to date when each exists and is newer than the scene file and every mesh it reads.
+bool up_to_date(const Scene& s) {
+    std::error_code ec;
+    auto newest = fs::last_write_time(s.file, ec);
+    if (ec) return false;
+    for (const auto& m : s.meshes) {
+        const auto t = fs::last_write_time(m.path, ec);
+        if (ec) return false;
+        newest = std::max(newest, t);
+    }
+    for (const auto& o : s.outputs.all()) {
+        const auto t = fs::last_write_time(o, ec);
+        if (ec || !(t > newest)) return false;
+    }
+    return true;
+}
+
+Camera make_camera(const Scene& s, const Bounds& b) {
+    const double aspect = double(s.width) / double(s.height);
+    const SceneCamera& sc = s.camera;
+    Camera cam;
+    if (sc.fit) {
+        cam = Camera::fit(b, sc.view_from, sc.fov_deg, aspect);
+        // Keep the requested up vector unless it is parallel to the view direction (fit's own choice then).
+        if (glm::length(glm::cross(glm::normalize(cam.eye - cam.target), glm::normalize(sc.up))) > 1e-6) cam.up = sc.up;
+        return cam;
+    }
+    cam.eye = sc.position;
+    cam.target = sc.has_target ? sc.target : b.centre();
+    if (!(glm::length(cam.target - cam.eye) > 0.0))
+        throw Error("scene '" + s.file + "': camera.position is at the centre of the meshes' bounds: give camera.target");
+    if (glm::length(glm::cross(glm::normalize(cam.target - cam.eye), glm::normalize(sc.up))) < 1e-9)
+        throw Error("scene '" + s.file + "': camera.up is parallel to the view direction: choose another up vector");
+    cam.up = sc.up;
+    cam.fov_y_deg = sc.fov_deg;
+    // Clip planes from the distance to the far side of the bounds; the near plane at 1e-4 of it keeps
+    // 24-bit-class depth precision where the meshes are (the rasteriser interpolates depth in double).
+    const double reach = glm::length(cam.eye - b.centre()) + 2.0 * b.radius();
+    cam.z_near = std::max(reach * 1e-4, 1e-6);
+    cam.z_far = reach * 2.0;
+    return cam;
+}
+
+// Nearest fragment per pixel over all meshes (ties: the earlier mesh), in pixel order.
+void merge_by_depth(std::vector<FragmentBuffer>& parts, FragmentBuffer& out, std::vector<std::uint16_t>& mesh_of) {
+    if (parts.size() == 1) {
+        out = std::move(parts[0]);
+        mesh_of.assign(out.size(), 0);
+        return;
+    }
+    const std::size_t npix = std::size_t(parts[0].width) * std::size_t(parts[0].height);
+    std::vector<float> best(npix, std::numeric_limits<float>::infinity());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> who(npix, {0xffffffffu, 0});
+    for (std::size_t m = 0; m < parts.size(); ++m)
+        for (std::size_t i = 0; i < parts[m].size(); ++i) {
+            const std::size_t p = std::size_t(parts[m].pixel[i]);
+            if (parts[m].depth[i] < best[p]) {
+                best[p] = parts[m].depth[i];
+                who[p] = {std::uint32_t(m), std::uint32_t(i)};
+            }
+        }
+    out = FragmentBuffer{};
+    out.width = parts[0].width;
+    out.height = parts[0].height;
+    mesh_of.clear();
+    for (std::size_t p = 0; p < npix; ++p) {
+        if (who[p].first == 0xffffffffu) continue;
+        const FragmentBuffer& f = parts[who[p].first];
+        const std::size_t i = who[p].second;
+        out.push_back(f.px[i], f.py[i], f.pz[i], f.nx[i], f.ny[i], f.nz[i], f.pixel[i], f.depth[i]);
+        mesh_of.push_back(std::uint16_t(who[p].first));
+    }
+}
+
+class Runner {
+public:
+    Runner(const BatchOptions& o, Runtime& rt) : opt_(o), rt_(rt), shader_(rt) {}
+
+    BatchSummary run();
+
+private:
+    Prepared prepare(const BatchJob& job);
+    void shade(Prepared& p);
+    static void write(Prepared& p);
+    std::string claim_outputs_note(const BatchJob& job, const Scene& s);
+    void index_outputs(const std::vector<BatchJob>& all);
+
+    const BatchOptions& opt_;
+    Runtime& rt_;
+    Shader shader_;
+    MeshCache meshes_;
+    std::map<std::string, std::size_t> first_writer_;   // output path -> index of the first job writing it
+    std::map<std::size_t, std::string> job_labels_;
+};
+
+// Two jobs writing the same file would race (and the last one would silently win). Every job of the full
+// list is parsed once up front (cheap: no meshes are read), so every shard agrees on which job owns a
+// path: the first in the sorted list. Jobs whose scene does not parse are left to fail on their own.
+void Runner::index_outputs(const std::vector<BatchJob>& all) {
+    for (const auto& j : all) {
+        job_labels_[j.index] = j.label();
+        try {
+            const Scene s = load_scene(j.scene, SceneLoadOptions{opt_.out_dir, j.mesh});
+            for (const auto& o : s.outputs.all()) first_writer_.emplace(fs::path(o).lexically_normal().string(), j.index);
+        } catch (const Error&) {
+        }
+    }
+}
+
+std::string Runner::claim_outputs_note(const BatchJob& job, const Scene& s) {
+    for (const auto& o : s.outputs.all()) {
+        const auto it = first_writer_.find(fs::path(o).lexically_normal().string());
+        if (it != first_writer_.end() && it->second != job.index)
+            return "output '" + o + "' is also written by " + job_labels_[it->second] +
+                   ", earlier in the batch: give this scene another name or outputs (e.g. \"{scene}_{mesh}.png\")";
+    }
+    return {};
+}
+
+Prepared Runner::prepare(const BatchJob& job) {
+    Prepared p;
+    JobResult& r = p.result;
+    r.job = job;
+    const auto t0 = clock_type::now();
+    try {
+        p.scene = load_scene(job.scene, SceneLoadOptions{opt_.out_dir, job.mesh});
+        const Scene& s = p.scene;
+        r.name = s.name;
+        r.outputs = s.outputs.all();
+        r.warnings = s.warnings;
+        r.width = s.width;
+        r.height = s.height;
+        for (const auto& m : s.meshes) r.models.push_back(model_label(m.material));
+        const std::string clash = claim_outputs_note(job, s);
+        if (!clash.empty()) throw Error("scene '" + s.file + "': " + clash);
+        if (!opt_.force && up_to_date(s)) {
+            r.status = JobResult::Status::Skipped;
+            p.settled = true;
+            r.load_ms = ms_since(t0);
+            return p;
+        }
+        std::vector<Mesh> loaded;
+        Bounds all;
+        for (std::size_t i = 0; i < s.meshes.size(); ++i) {
+            const SceneMesh& sm = s.meshes[i];
+            Mesh m;
+            try {
+                m = meshes_.get(sm.path);
+            } catch (const Error& e) {
+                throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "] '" + sm.path_written + "': " + e.what());
+            }
+            if (sm.transform != glm::dmat4(1.0)) m.transform(sm.transform);
+            const Bounds b = m.bounds();
+            for (int c = 0; c < 3; ++c)
+                if (!std::isfinite(b.lo[c]) || !std::isfinite(b.hi[c]))
+                    throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "]: the transform overflows (non-finite coordinates)");
+            if (i == 0) all = b;
+            all.lo = glm::min(all.lo, b.lo);
+            all.hi = glm::max(all.hi, b.hi);
+            r.triangles += m.triangles.size();
+            loaded.push_back(std::move(m));
+        }
+        r.load_ms = ms_since(t0);
+
+        const auto t1 = clock_type::now();
+        const Camera cam = make_camera(s, all);
+        p.eye = cam.eye;
+        std::vector<FragmentBuffer> parts;
+        for (std::size_t i = 0; i < loaded.size(); ++i) {
+            RasterOptions ro;
+            ro.width = s.width;
+            ro.height = s.height;
+            ro.threads = opt_.raster_threads;
+            ro.cull_backfaces = s.meshes[i].cull_backfaces;
+            parts.push_back(rasterize(loaded[i], cam, ro));
+        }
+        merge_by_depth(parts, p.fb, p.mesh_of);
+        r.fragments = p.fb.size();
+        r.raster_ms = ms_since(t1);
+        if (p.fb.empty())
+            r.warnings.push_back("the meshes cover no pixel from this camera: the images hold the background only");
+    } catch (const Error& e) {
+        r.status = JobResult::Status::Failed;
+        r.error = e.what();
+        p.settled = true;
+        if (r.load_ms == 0.0) r.load_ms = ms_since(t0);
+    } catch (const std::exception& e) {
+        r.status = JobResult::Status::Failed;
+        r.error = job.label() + ": internal error: " + e.what();
+        p.settled = true;
+    }
+    return p;
+}
+
+void Runner::shade(Prepared& p) {
+    JobResult& r = p.result;
+    const Scene& s = p.scene;
+    try {
+        const std::size_t n = p.fb.size();
+        std::vector<float> rgb(3 * n, 0.0f);
+        const auto t0 = clock_type::now();
+        for (std::size_t mi = 0; mi < s.meshes.size() && n > 0; ++mi) {
+            // This mesh's fragments, shaded with its material (one launch per material).
+            std::vector<std::size_t> idx;
+            for (std::size_t i = 0; i < n; ++i)
+                if (p.mesh_of[i] == mi) idx.push_back(i);
+            if (idx.empty()) continue;
+            const bool whole = idx.size() == n;
+            FragmentBuffer sub;
+            if (!whole) {
+                sub.width = p.fb.width;
+                sub.height = p.fb.height;
+                sub.reserve(idx.size());
+                for (std::size_t i : idx)
+                    sub.push_back(p.fb.px[i], p.fb.py[i], p.fb.pz[i], p.fb.nx[i], p.fb.ny[i], p.fb.nz[i], p.fb.pixel[i], p.fb.depth[i]);
+            }
+            ShadeSetup setup;
+            setup.material = s.meshes[mi].material;
+            setup.lights = s.lights;
+            setup.ambient = s.ambient;
+            setup.view = glm::dvec4(p.eye, 1.0);
+            setup.precision = s.precision;
+            ShadeTiming st;
+            std::vector<float> part;
+            try {
+                part = shader_.shade(whole ? p.fb : sub, setup, &st);
+            } catch (const Error& e) {
+                throw Error("scene '" + s.file + "': meshes[" + std::to_string(mi) + "] (model '" +
+                            s.meshes[mi].material.model + "'): " + e.what());
+            }
+            r.build_ms += st.build_ms;
+            r.kernel_ms += st.kernel_ms;
+            const std::size_t m = idx.size();
+            for (std::size_t k = 0; k < m; ++k)
+                for (std::size_t c = 0; c < 3; ++c) rgb[c * n + idx[k]] = part[c * m + k];
+        }
+        r.shade_ms = ms_since(t0);
+
+        // The images, composed here; written by write() (on its own thread when overlapping).
+        const auto& o = s.outputs;
+        if (!o.png.empty() || !o.exr.empty()) {
+            Image img = compose_image(p.fb, rgb, s.background);
+            if (!o.png.empty() && !o.exr.empty()) p.images.emplace_back(o.png, img);
+            else if (!o.png.empty()) p.images.emplace_back(o.png, std::move(img));
+            if (!o.exr.empty()) p.images.emplace_back(o.exr, std::move(img));
+        }
+        if (!o.depth.empty()) {
+            Image d(s.width, s.height, 1);   // 0 = no surface (covered depths are > z_near > 0)
+            for (std::size_t i = 0; i < n; ++i) d.pixels[std::size_t(p.fb.pixel[i])] = p.fb.depth[i];
+            p.images.emplace_back(o.depth, std::move(d));
+        }
+        if (!o.normal.empty()) {
+            Image nm(s.width, s.height, 4);
+            for (std::size_t i = 0; i < n; ++i) {
+                float* px = &nm.pixels[std::size_t(p.fb.pixel[i]) * 4];
+                px[0] = p.fb.nx[i];
+                px[1] = p.fb.ny[i];
+                px[2] = p.fb.nz[i];
+                px[3] = 1.0f;
+            }
+            p.images.emplace_back(o.normal, std::move(nm));
+        }
+        p.fb = FragmentBuffer{};   // not needed any more: free it before the next job's arrives
+    } catch (const Error& e) {
+        r.status = JobResult::Status::Failed;
+        const std::string what = e.what();
+        r.error = what.rfind("scene '", 0) == 0 ? what : "scene '" + s.file + "': " + what;
+        p.images.clear();
+    } catch (const std::exception& e) {
+        r.status = JobResult::Status::Failed;
+        r.error = "scene '" + s.file + "': internal error: " + e.what();
+        p.images.clear();
+    }
+}
+
+// Writes every image atomically (write_image: temporary file, then rename). Never throws.
+void Runner::write(Prepared& p) {
+    JobResult& r = p.result;
+    const auto t0 = clock_type::now();
+    try {
+        for (const auto& [path, img] : p.images) write_image(path, img);
+    } catch (const Error& e) {
+        r.status = JobResult::Status::Failed;
+        r.error = "scene '" + p.scene.file + "': " + e.what();
+    } catch (const std::exception& e) {
+        r.status = JobResult::Status::Failed;
+        r.error = "scene '" + p.scene.file + "': internal error while writing: " + e.what();
+    }
+    p.images.clear();
+    r.write_ms = ms_since(t0);
+}
+
+std::string fixed(double v, int digits) {
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(digits) << v;
+    return s.str();
+}
+
+std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
+    const std::string head = "[" + std::to_string(pos) + "/" + std::to_string(count) + "] ";
+    std::string outs;
+    for (const auto& o : r.outputs) outs += (outs.empty() ? "" : ", ") + o;
+    if (r.status == JobResult::Status::Skipped) return head + "up to date: " + r.job.label() + " (" + outs + ")";
+    std::string line = head + "ok: " + r.job.label() + ": " + std::to_string(r.fragments) + " fragments, raster " +
+                       fixed(r.raster_ms, 1) + " ms, kernel " + fixed(r.kernel_ms, 1) + " ms (" +
+                       fixed(r.mfrag_per_s(), 1) + " Mfrag/s)";
+    if (r.build_ms > 0.0) line += ", build " + fixed(r.build_ms, 0) + " ms";
+    return line + " -> " + outs;
+}
+
+BatchSummary Runner::run() {
+    std::ostream& log = opt_.log ? *opt_.log : std::cerr;
+    const auto t0 = clock_type::now();
+    const std::vector<BatchJob> all = plan_all_jobs(opt_);
+    std::vector<BatchJob> jobs;
+    for (const auto& j : all)
+        if (int(j.index % std::size_t(opt_.shard_count)) == opt_.shard_index - 1) jobs.push_back(j);
+    index_outputs(all);
+
+    BatchSummary sum;
+    sum.planned_total = all.size();
+    sum.shard_index = opt_.shard_index;
+    sum.shard_count = opt_.shard_count;
+    sum.overlap = opt_.overlap;
+    sum.device = rt_.device_description();
+    const std::size_t built0 = rt_.programs_built();
+
+    Progress progress(jobs.size(), log, opt_.progress);
+    // Job i+1 is parsed, loaded and rasterised on its own thread while job i shades on this one
+    // (overlap), or right before it shades (deferred: no second thread).
+    auto launch = [&](std::size_t i) {
+        return std::async(opt_.overlap ? std::launch::async : std::launch::deferred,
+                          [this, &jobs, i] { return prepare(jobs[i]); });
+    };
+    std::future<Prepared> next;
+    if (!jobs.empty()) next = launch(0);
+    // Job i's images are written on their own thread while job i+1 shades (writing PNG and EXR is
+    // single-threaded and often the longest stage); results are reported in job order.
+    std::future<void> writing;
+    Prepared written;
+    std::size_t reported = 0;
+    auto report = [&](Prepared& done) {
+        JobResult& r = done.result;
+        ++reported;
+        for (const auto& w : r.warnings) progress.message("warning: " + r.job.label() + ": " + w);
+        if (r.status == JobResult::Status::Failed) {
+            ++sum.failed;
+            progress.finish(false, false, r.error);
+        } else if (r.status == JobResult::Status::Skipped) {
+            ++sum.skipped;
+            progress.finish(true, true, job_line(r, reported, jobs.size()));
+        } else {
+            ++sum.ok;
+            progress.finish(true, false, job_line(r, reported, jobs.size()));
+        }
+        sum.jobs.push_back(std::move(r));
+    };
+    auto finish_writing = [&] {
+        if (!writing.valid()) return;
+        const auto tw = clock_type::now();
+        writing.get();
+        sum.write_wait_ms += ms_since(tw);
+        report(written);
+    };
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        progress.start(fs::path(jobs[i].scene).filename().string() +
+                       (jobs[i].mesh.empty() ? "" : " + " + fs::path(jobs[i].mesh).filename().string()));
+        const auto tw = clock_type::now();
+        Prepared p = next.get();
+        if (opt_.overlap) sum.wait_ms += ms_since(tw);
+        if (i + 1 < jobs.size()) next = launch(i + 1);
+        if (!p.settled) shade(p);
+        finish_writing();
+        if (p.images.empty()) {
+            report(p);
+        } else if (opt_.overlap) {
+            written = std::move(p);
+            writing = std::async(std::launch::async, [&written] { write(written); });
+        } else {
+            write(p);
+            report(p);
+        }
+    }
+    finish_writing();
+    progress.close();
+    sum.wall_ms = ms_since(t0);
+    sum.programs_built = rt_.programs_built() - built0;
+
+    fs::path json_path = opt_.report;
+    if (json_path.empty()) {
+        std::string stem = "batch_report";
+        if (opt_.shard_count > 1)
+            stem += "_shard" + std::to_string(opt_.shard_index) + "of" + std::to_string(opt_.shard_count);
+        json_path = fs::path(opt_.out_dir) / (stem + ".json");
+    }
+    fs::path csv_path = json_path;
+    csv_path.replace_extension(".csv");
+    sum.report_json = json_path.string();
+    sum.report_csv = csv_path.string();
+    write_report_json(sum, sum.report_json);
+    write_report_csv(sum, sum.report_csv);
+
+    // The summary: counts, totals, throughput, then every failure again (they may have scrolled away).
+    double raster = 0, kernel = 0, build = 0, write = 0, shade = 0;
+    std::size_t frags = 0;
+    for (const auto& r : sum.jobs) {
+        raster += r.raster_ms;
+        kernel += r.kernel_ms;
+        build += r.build_ms;
+        write += r.write_ms;
+        shade += r.shade_ms;
+        frags += r.fragments;
+    }
+    log << "batch: " << sum.jobs.size() << " jobs";
+    if (opt_.shard_count > 1) log << " (shard " << opt_.shard_index << "/" << opt_.shard_count << " of " << all.size() << ")";
+    log << ": " << sum.ok << " rendered, " << sum.skipped << " up to date, " << sum.failed << " failed; wall "
+        << fixed(sum.wall_ms / 1000.0, 2) << " s, " << sum.programs_built << " programs built\n";
+    log << "  rasterise " << fixed(raster, 0) << " ms, shade " << fixed(shade, 0) << " ms (kernel " << fixed(kernel, 0)
+        << " ms, build " << fixed(build, 0) << " ms), write " << fixed(write, 0) << " ms; " << frags << " fragments, "
+        << fixed(kernel > 0 ? double(frags) / kernel / 1000.0 : 0.0, 1) << " Mfrag/s in the kernel\n";
+    log << "  overlap " << (opt_.overlap ? "on" : "off");
+    if (opt_.overlap)
+        log << " (shading waited " << fixed(sum.wait_ms, 0) << " ms for rasterisation, " << fixed(sum.write_wait_ms, 0)
+            << " ms for writing)";
+    log << "; device " << sum.device << "\n";
+    for (const auto& r : sum.jobs)
+        if (r.status == JobResult::Status::Failed) log << "  failed: " << r.error << "\n";
+    log << "report: " << sum.report_json << ", " << sum.report_csv << "\n";
+    return sum;
+}
+
+// Atomic text write, like images: a temporary file in the same folder, then rename.
+void write_text_atomic(const std::string& path, const std::string& text) {
+    const fs::path target(path);
+    std::error_code ec;
+    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
+    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) {
+            fs::remove(tmp, ec);
+            throw Error("cannot write the report '" + path + "' (is the folder writable?)");
+        }
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw Error("cannot move the report into place at '" + path + "': " + ec.message());
+    }
+}
+
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+
+}  // namespace
+
+std::string BatchJob::label() const {
+    return mesh.empty() ? "scene '" + scene + "'" : "scene '" + scene + "' with mesh '" + mesh + "'";
+}
+
+double JobResult::mfrag_per_s() const { return kernel_ms > 0.0 ? double(fragments) / kernel_ms / 1000.0 : 0.0; }
+
+const char* status_name(JobResult::Status s) {
+    switch (s) {
+        case JobResult::Status::Ok: return "ok";
+        case JobResult::Status::Skipped: return "up_to_date";
+        case JobResult::Status::Failed: return "failed";
+    }
+    return "?";
+}
+
+std::pair<int, int> parse_shard(const std::string& text) {
+    int i = 0, n = 0;
+    char slash = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%d%c%d%c", &i, &slash, &n, &extra) != 3 || slash != '/')
+        throw Error("--shard expects i/N such as 2/8 (this machine's share, 1-based), got '" + text + "'");
+    if (n < 1 || i < 1 || i > n) throw Error("--shard " + text + ": need 1 <= i <= N");
+    return {i, n};
+}
+
+std::vector<BatchJob> plan_all_jobs(const BatchOptions& o) {
+    if (o.shard_count < 1 || o.shard_index < 1 || o.shard_index > o.shard_count)
+        throw Error("shard " + std::to_string(o.shard_index) + "/" + std::to_string(o.shard_count) + ": need 1 <= i <= N");
+    std::vector<std::pair<std::string, std::string>> keys;
+    std::error_code ec;
+    if (o.scenes.empty() && o.mesh_dir.empty() && o.template_scene.empty())
+        throw Error("no scenes given: shadelab batch scenes/*.json (or --meshes DIR --scene TEMPLATE.json, or both)");
+    if (!o.mesh_dir.empty() || !o.template_scene.empty()) {
+        if (o.mesh_dir.empty() || o.template_scene.empty())
+            throw Error("template mode needs both --meshes DIR and --scene TEMPLATE.json");
+        if (!fs::is_directory(o.mesh_dir, ec)) throw Error("--meshes '" + o.mesh_dir + "': not a folder");
+        std::size_t found = 0;
+        for (const auto& e : fs::directory_iterator(o.mesh_dir, ec))
+            if (e.is_regular_file() && is_mesh_file(e.path())) {
+                keys.emplace_back(o.template_scene, e.path().string());
+                ++found;
+            }
+        if (!found) throw Error("--meshes '" + o.mesh_dir + "': no .obj .off .ply or .stl files in this folder");
+    }
+    for (const auto& s : o.scenes) {
+        if (fs::is_directory(s, ec)) {
+            std::size_t found = 0;
+            for (const auto& e : fs::directory_iterator(s, ec))
+                if (e.is_regular_file() && lower_ext(e.path()) == ".json") {
+                    keys.emplace_back(e.path().string(), std::string());
+                    ++found;
+                }
+            if (!found) throw Error("scene folder '" + s + "' holds no .json files");
+        } else {
+            keys.emplace_back(s, std::string());   // a missing file becomes a failed job, reported in turn
+        }
+    }
+    // Sorted and without repeats, so the list (and so every shard) is the same on every machine.
+    for (auto& k : keys) {
+        k.first = fs::path(k.first).lexically_normal().string();
+        if (!k.second.empty()) k.second = fs::path(k.second).lexically_normal().string();
+    }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::vector<BatchJob> jobs;
+    for (std::size_t i = 0; i < keys.size(); ++i) jobs.push_back(BatchJob{i, keys[i].first, keys[i].second});
+    return jobs;
+}
+
+std::vector<BatchJob> plan_batch(const BatchOptions& o) {
+    std::vector<BatchJob> out;
+    for (const auto& j : plan_all_jobs(o))
+        if (int(j.index % std::size_t(o.shard_count)) == o.shard_index - 1) out.push_back(j);
+    return out;
+}
+
+BatchSummary run_batch(const BatchOptions& options, Runtime& runtime) { return Runner(options, runtime).run(); }
+
+void write_report_json(const BatchSummary& s, const std::string& path) {
+    using nlohmann::json;
+    json jobs = json::array();
+    for (const auto& r : s.jobs) {
+        jobs.push_back({{"index", r.job.index},
+                        {"scene", r.job.scene},
+                        {"mesh", r.job.mesh},
+                        {"name", r.name},
+                        {"status", status_name(r.status)},
+                        {"outputs", r.outputs},
+                        {"models", r.models},
+                        {"width", r.width},
+                        {"height", r.height},
+                        {"triangles", r.triangles},
+                        {"fragments", r.fragments},
+                        {"load_ms", r.load_ms},
+                        {"raster_ms", r.raster_ms},
+                        {"build_ms", r.build_ms},
+                        {"kernel_ms", r.kernel_ms},
+                        {"shade_ms", r.shade_ms},
+                        {"write_ms", r.write_ms},
+                        {"mfrag_per_s", r.mfrag_per_s()},
+                        {"error", r.error},
+                        {"warnings", r.warnings}});
+    }
+    const json doc{{"tool", "shadelab batch"},
+                   {"device", s.device},
+                   {"shard", std::to_string(s.shard_index) + "/" + std::to_string(s.shard_count)},
+                   {"planned_total", s.planned_total},
+                   {"jobs_in_shard", s.jobs.size()},
+                   {"ok", s.ok},
+                   {"up_to_date", s.skipped},
+                   {"failed", s.failed},
+                   {"wall_ms", s.wall_ms},
+                   {"overlap", s.overlap},
+                   {"wait_for_raster_ms", s.wait_ms},
+                   {"wait_for_write_ms", s.write_wait_ms},
+                   {"programs_built", s.programs_built},
+                   {"jobs", jobs}};
+    write_text_atomic(path, doc.dump(2) + "\n");
+}
+
+void write_report_csv(const BatchSummary& s, const std::string& path) {
+    std::ostringstream out;
+    out << "index,scene,mesh,name,status,outputs,models,width,height,triangles,fragments,load_ms,raster_ms,"
+           "build_ms,kernel_ms,shade_ms,write_ms,mfrag_per_s,error\n";
+    for (const auto& r : s.jobs) {
+        std::string outs, models;
+        for (const auto& o : r.outputs) outs += (outs.empty() ? "" : ";") + o;
+        for (const auto& m : r.models) models += (models.empty() ? "" : ";") + m;
+        out << r.job.index << ',' << csv_field(r.job.scene) << ',' << csv_field(r.job.mesh) << ',' << csv_field(r.name)
+            << ',' << status_name(r.status) << ',' << csv_field(outs) << ',' << csv_field(models) << ',' << r.width << ','
+            << r.height << ',' << r.triangles << ',' << r.fragments << ',' << fixed(r.load_ms, 3) << ','
+            << fixed(r.raster_ms, 3) << ',' << fixed(r.build_ms, 3) << ',' << fixed(r.kernel_ms, 3) << ','
+            << fixed(r.shade_ms, 3) << ',' << fixed(r.write_ms, 3) << ',' << fixed(r.mfrag_per_s(), 3) << ','
+            << csv_field(r.error) << '\n';
+    }
+    write_text_atomic(path, out.str());
+}
+
+}  // namespace shadelab
