@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 // OpenMesh 9's PropertyT::push_back(T()) trips GCC 12's -Wmaybe-uninitialized inside the library's own
 // templates (a default-constructed VectorT); nothing of ours is uninitialised.
@@ -78,6 +80,46 @@ void check_obj_coordinates(const std::string& path) {
     if (bad)
         throw Error("mesh '" + path + "' has " + std::to_string(bad) + " vertices with NaN/Inf or unreadable " +
                     "coordinates (first on line " + std::to_string(first_bad) + "): fix or remove them");
+}
+
+// How many vertices the file itself declares. OpenMesh appends duplicated vertices after them when it
+// re-adds faces around non-manifold ("complex") edges, and those copies carry no normal from the file
+// (their normal property is left uninitialised), so their normals must be computed.
+std::size_t declared_vertex_count(const std::string& path, const std::string& ext) {
+    std::ifstream in(path);
+    std::string line;
+    if (ext == ".obj") {
+        std::size_t n = 0;
+        while (std::getline(in, line))
+            if (line.size() > 1 && line[0] == 'v' && (line[1] == ' ' || line[1] == '\t')) ++n;
+        return n;
+    }
+    if (ext == ".ply") {
+        while (std::getline(in, line)) {
+            std::istringstream s(line);
+            std::string a, b;
+            std::size_t n = 0;
+            if (s >> a >> b >> n && a == "element" && b == "vertex") return n;
+            if (line.rfind("end_header", 0) == 0) break;
+        }
+    }
+    if (ext == ".off") {
+        std::size_t n = 0;
+        while (std::getline(in, line)) {
+            if (line.empty() || line[0] == '#') continue;
+            std::istringstream s(line);
+            std::string word;
+            s >> word;
+            if (word.find("OFF") != std::string::npos) {
+                if (s >> n) return n;   // counts on the same line as the keyword
+                continue;
+            }
+            std::istringstream c(line);
+            if (c >> n) return n;
+            break;
+        }
+    }
+    return std::numeric_limits<std::size_t>::max();
 }
 
 }  // namespace
@@ -201,10 +243,11 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     const auto computed = area_weighted_normals(m);
     // STL stores facet normals only (OpenMesh may still flag vertex normals): compute them for STL.
     r.normals_from_file = opt.check(OpenMesh::IO::Options::VertexNormal) && ext != ".stl";
+    const std::size_t declared = r.normals_from_file ? declared_vertex_count(path, ext) : 0;
     m.normals.resize(m.positions.size());
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         glm::dvec3 n(0.0);
-        if (r.normals_from_file) {
+        if (r.normals_from_file && i < declared) {
             n = to_glm(om.normal(OMesh::VertexHandle(int(i))));
             const double len = glm::length(n);
             if (finite3(n) && len > 1e-12) {
@@ -223,6 +266,19 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
                 const glm::dvec3 c = glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
                 if (!r.normals_from_file) m.normals[t[k]] = glm::normalize(c);
             }
+    // Copies OpenMesh made for complex edges take the file normal of the vertex they duplicate.
+    if (r.normals_from_file && m.positions.size() > declared) {
+        std::map<std::tuple<double, double, double>, std::size_t> original;
+        for (std::size_t i = 0; i < declared; ++i)
+            original.emplace(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z), i);
+        std::size_t copied = 0;
+        for (std::size_t i = declared; i < m.positions.size(); ++i) {
+            auto it = original.find(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z));
+            if (it != original.end()) { m.normals[i] = m.normals[it->second]; ++copied; }
+        }
+        if (copied)
+            r.notes.push_back(std::to_string(copied) + " vertices duplicated by OpenMesh took the file normal of their original");
+    }
     if (r.normals_repaired)
         r.notes.push_back(std::to_string(r.normals_repaired) + " zero or NaN normals in the file recomputed (area-weighted)");
     if (r.unused_vertices)
