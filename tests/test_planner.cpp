@@ -4,7 +4,15 @@
 
 #include <iostream>
 
+#include <filesystem>
+
 #include "plan/planner.hpp"
+#include "color/image_compare.hpp"
+#include "image/image.hpp"
+#include "scene/batch.hpp"
+#include "scene/scene.hpp"
+
+#include <unistd.h>
 
 using namespace shadelab;
 
@@ -123,4 +131,72 @@ TEST_CASE("planner: coarser icosphere levels are tried for analytic spheres", "[
     for (const auto& c : p.candidates) tried_lower = tried_lower || (c.config.icosphere_level >= 0 && c.config.icosphere_level < 5);
     CHECK(tried_lower);
     for (const auto& c : p.candidates) CHECK(p.chosen.time_ms <= c.time_ms / 0.95 + 1e-9);
+}
+
+TEST_CASE("planner: on every bundled scene the chosen plan's measured error is within tolerance", "[plan][scene]") {
+    namespace fs = std::filesystem;
+    std::size_t scenes = 0;
+    for (const auto& e : fs::directory_iterator(SHADELAB_SOURCE_DIR "/scenes")) {
+        if (e.path().extension() != ".json") continue;
+        const Scene s = load_scene(e.path().string());
+        const SceneGeometry geo = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
+        PlanInput in;
+        in.camera = geo.camera;
+        in.width = s.width;
+        in.height = s.height;
+        for (std::size_t i = 0; i < geo.meshes.size(); ++i)
+            in.items.push_back(PlanItem{geo.meshes[i], s.meshes[i].material, s.meshes[i].cull_backfaces, -1, glm::dmat4(1.0)});
+        in.lights = s.lights;
+        in.ambient = s.ambient;
+        PlanOptions o;
+        o.tolerance = 1.0;
+        o.verify_pixels = 128 * 128;
+        o.timing_repeats = 1;
+        const Plan p = make_plan(runtime(), in, o);
+        INFO(e.path().string() << ": chosen " << p.chosen.config.label() << ", error " << p.chosen.error);
+        CHECK(p.chosen.within);
+        CHECK(p.chosen.error <= o.tolerance);
+        CHECK(p.requested.error < 1e-2);   // the requested configuration is the float kernel itself
+        CHECK(std::isfinite(p.chosen.speedup));
+        CHECK(p.chosen.speedup >= 1.0);
+        ++scenes;
+    }
+    CHECK(scenes >= 5);
+}
+
+TEST_CASE("batch --tolerance plans each job and shades with the choice, within tolerance of the plain render",
+          "[plan][batch]") {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("shadelab-test-plan-batch-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    std::ostringstream log;
+    BatchOptions o;
+    o.scenes = {SHADELAB_SOURCE_DIR "/scenes/lights.json"};
+    o.progress = ProgressStyle::Quiet;
+    o.log = &log;
+    o.out_dir = (dir / "plain").string();
+    const BatchSummary plain = run_batch(o, runtime());
+    REQUIRE(plain.failed == 0);
+    o.out_dir = (dir / "planned").string();
+    o.tolerance = 1.0;
+    const BatchSummary planned = run_batch(o, runtime());
+    REQUIRE(planned.failed == 0);
+    REQUIRE(planned.jobs.size() == 1);
+    bool noted = false;
+    for (const auto& w : planned.jobs[0].warnings) noted = noted || w.rfind("plan: ", 0) == 0;
+    CHECK(noted);
+    std::size_t compared = 0;
+    for (const auto& out : planned.jobs[0].outputs) {
+        const std::string ext = fs::path(out).extension().string();
+        if (ext != ".exr" && ext != ".png") continue;
+        ++compared;
+        const fs::path rel = fs::relative(out, dir / "planned");
+        const ImageDiff d = compare_images(read_image(out), read_image((dir / "plain" / rel).string()));
+        INFO(out << ": max Delta E 2000 against the plain render " << d.de_max);
+        // The plain render is within float rounding of the reference; 8-bit PNG rounding can add up to
+        // about half a code value on each side.
+        CHECK(d.de_max <= (ext == ".png" ? 1.6 : 1.0 + 1e-3));
+    }
+    CHECK(compared > 0);
+    fs::remove_all(dir);
 }

@@ -26,6 +26,8 @@ struct BatchArgs {
     bool no_overlap = false;
     bool contact = false;
     bool list = false;
+    double tolerance = 0.0;
+    std::string metric = "de2000";
 };
 
 struct ContactArgs {
@@ -52,6 +54,10 @@ void run_batch_command(const BatchArgs& a) {
     o.force = a.force;
     o.overlap = !a.no_overlap;
     o.progress = parse_progress_style(a.progress);
+    if (a.tolerance < 0.0) throw Error("--tolerance must be > 0 (0 = off)");
+    o.tolerance = a.tolerance;
+    if (a.metric != "de2000" && a.metric != "relative") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
+    o.tolerance_relative = a.metric == "relative";
     if (a.list) {
         // The jobs this shard would run, in order: a dry run for checking a sharding plan.
         for (const auto& j : plan_batch(o)) std::cout << j.index << "\t" << j.scene << (j.mesh.empty() ? "" : "\t" + j.mesh) << "\n";
@@ -88,6 +94,9 @@ void add_batch_command(CLI::App& app) {
                     "i/N: run only the jobs whose index in the sorted job list satisfies index % N == i-1")
         ->capture_default_str();
     cmd->add_flag("--force", a->force, "Re-render outputs that are newer than their scene and meshes");
+    cmd->add_option("--tolerance", a->tolerance,
+                    "Plan each job and shade with the cheapest configuration within this error (docs/planner.md)");
+    cmd->add_option("--metric", a->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")->capture_default_str();
     cmd->add_flag("--no-overlap", a->no_overlap,
                   "Rasterise each job right before it shades instead of during the previous job's shading");
     cmd->add_option("--progress", a->progress, "auto (bar on a terminal, lines otherwise), bar, lines or quiet")

@@ -188,7 +188,8 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
         if (simplify && !can_simplify) continue;
         for (Precision p : {Precision::Precise, Precision::Fast})
             for (bool pv : {false, true})
-                for (int l : levels) configs.push_back(PlanConfig{simplify, p, pv, l});
+                for (int l : levels)
+                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{simplify, p, pv, l});
     }
 
     std::vector<Frame> full_levels, verify_levels;   // per entry of `levels`

@@ -44,6 +44,7 @@ struct PlanOptions {
     double tolerance = 1.0;
     PlanMetric metric = PlanMetric::DeltaE2000;
     int verify_pixels = 256 * 256;   // verification renders are reduced to about this many pixels (stated)
+    bool allow_per_vertex = true;    // false: per-pixel candidates only (the batch renderer's path)
     int timing_repeats = 3;          // at least N kernel timings at full resolution, more for small scenes (best kept)
 };
 

@@ -23,6 +23,7 @@
 #include "core/error.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
+#include "plan/planner.hpp"
 #include "raster/raster.hpp"
 #include "scene/scene.hpp"
 #include "shade/shader.hpp"
@@ -97,6 +98,9 @@ struct Prepared {
     std::vector<std::uint16_t> mesh_of;   // mesh index of each fragment
     glm::dvec3 eye{0.0};
     bool settled = false;                  // skipped or failed: nothing to shade
+    bool planned = false;                  // --tolerance: shade with the plan's choice
+    PlanConfig plan_config;
+    std::vector<Light> plan_lights;
     std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
 };
 
@@ -117,31 +121,6 @@ bool up_to_date(const Scene& s) {
     return true;
 }
 
-Camera make_camera(const Scene& s, const Bounds& b) {
-    const double aspect = double(s.width) / double(s.height);
-    const SceneCamera& sc = s.camera;
-    Camera cam;
-    if (sc.fit) {
-        cam = Camera::fit(b, sc.view_from, sc.fov_deg, aspect);
-        // Keep the requested up vector unless it is parallel to the view direction (fit's own choice then).
-        if (glm::length(glm::cross(glm::normalize(cam.eye - cam.target), glm::normalize(sc.up))) > 1e-6) cam.up = sc.up;
-        return cam;
-    }
-    cam.eye = sc.position;
-    cam.target = sc.has_target ? sc.target : b.centre();
-    if (!(glm::length(cam.target - cam.eye) > 0.0))
-        throw Error("scene '" + s.file + "': camera.position is at the centre of the meshes' bounds: give camera.target");
-    if (glm::length(glm::cross(glm::normalize(cam.target - cam.eye), glm::normalize(sc.up))) < 1e-9)
-        throw Error("scene '" + s.file + "': camera.up is parallel to the view direction: choose another up vector");
-    cam.up = sc.up;
-    cam.fov_y_deg = sc.fov_deg;
-    // Clip planes from the distance to the far side of the bounds; the near plane at 1e-4 of it keeps
-    // 24-bit-class depth precision where the meshes are (the rasteriser interpolates depth in double).
-    const double reach = glm::length(cam.eye - b.centre()) + 2.0 * b.radius();
-    cam.z_near = std::max(reach * 1e-4, 1e-6);
-    cam.z_far = reach * 2.0;
-    return cam;
-}
 
 // Nearest fragment per pixel over all meshes (ties: the earlier mesh), in pixel order.
 void merge_by_depth(std::vector<FragmentBuffer>& parts, FragmentBuffer& out, std::vector<std::uint16_t>& mesh_of) {
@@ -241,31 +220,39 @@ Prepared Runner::prepare(const BatchJob& job) {
             r.load_ms = ms_since(t0);
             return p;
         }
-        std::vector<Mesh> loaded;
-        Bounds all;
-        for (std::size_t i = 0; i < s.meshes.size(); ++i) {
-            const SceneMesh& sm = s.meshes[i];
-            Mesh m;
-            try {
-                m = meshes_.get(sm.path);
-            } catch (const Error& e) {
-                throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "] '" + sm.path_written + "': " + e.what());
-            }
-            if (sm.transform != glm::dmat4(1.0)) m.transform(sm.transform);
-            const Bounds b = m.bounds();
-            for (int c = 0; c < 3; ++c)
-                if (!std::isfinite(b.lo[c]) || !std::isfinite(b.hi[c]))
-                    throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "]: the transform overflows (non-finite coordinates)");
-            if (i == 0) all = b;
-            all.lo = glm::min(all.lo, b.lo);
-            all.hi = glm::max(all.hi, b.hi);
-            r.triangles += m.triangles.size();
-            loaded.push_back(std::move(m));
-        }
+        SceneGeometry geo = load_scene_geometry(s, [this](const std::string& path) { return meshes_.get(path); });
+        std::vector<Mesh>& loaded = geo.meshes;
+        r.triangles = geo.triangles;
         r.load_ms = ms_since(t0);
 
         const auto t1 = clock_type::now();
-        const Camera cam = make_camera(s, all);
+        const Camera& cam = geo.camera;
+        if (opt_.tolerance > 0.0) {
+            // Plan on this job's own geometry: per-pixel candidates only (fragments of several meshes are
+            // merged here, so per-vertex interpolation is not available on this path).
+            PlanInput pin;
+            pin.camera = cam;
+            pin.width = s.width;
+            pin.height = s.height;
+            for (std::size_t i = 0; i < loaded.size(); ++i)
+                pin.items.push_back(PlanItem{loaded[i], s.meshes[i].material, s.meshes[i].cull_backfaces, -1, glm::dmat4(1.0)});
+            pin.lights = s.lights;
+            pin.ambient = s.ambient;
+            PlanOptions po;
+            po.tolerance = opt_.tolerance;
+            po.metric = opt_.tolerance_relative ? PlanMetric::Relative : PlanMetric::DeltaE2000;
+            po.allow_per_vertex = false;
+            const Plan plan = make_plan(rt_, pin, po);
+            p.planned = true;
+            p.plan_config = plan.chosen.config;
+            p.plan_lights = plan.kept_lights;
+            std::ostringstream note;
+            note << "plan: " << plan.chosen.config.label() << " (error " << plan.chosen.error << ", measured speed-up "
+                 << plan.chosen.speedup << "x";
+            if (!plan.dropped_lights.empty()) note << ", " << plan.dropped_lights.size() << " light(s) compiled out";
+            note << ")";
+            r.warnings.push_back(note.str());
+        }
         p.eye = cam.eye;
         std::vector<FragmentBuffer> parts;
         for (std::size_t i = 0; i < loaded.size(); ++i) {
@@ -322,6 +309,11 @@ void Runner::shade(Prepared& p) {
             setup.ambient = s.ambient;
             setup.view = glm::dvec4(p.eye, 1.0);
             setup.precision = s.precision;
+            if (p.planned) {
+                setup.material = plan_material(setup.material, p.plan_config);
+                setup.lights = p.plan_lights;
+                setup.precision = p.plan_config.precision;
+            }
             ShadeTiming st;
             std::vector<float> part;
             try {

@@ -33,6 +33,8 @@ struct BatchOptions {
     bool overlap = true;               // rasterise job i+1 and write job i-1 while job i shades
     int raster_threads = 0;            // 0: all hardware threads
     ProgressStyle progress = ProgressStyle::Auto;
+    double tolerance = 0.0;            // > 0: plan each job (docs/planner.md) and shade with the chosen config
+    bool tolerance_relative = false;   // the tolerance is a max relative error, not a max Delta E 2000
     std::ostream* log = nullptr;       // progress, failures, summary; nullptr: std::cerr
 };
 

@@ -473,4 +473,55 @@ Scene load_scene(const std::string& file, const SceneLoadOptions& opt) {
     return parse_scene(doc, file, opt);
 }
 
+Camera scene_camera(const Scene& s, const Bounds& b) {
+    const double aspect = double(s.width) / double(s.height);
+    const SceneCamera& sc = s.camera;
+    Camera cam;
+    if (sc.fit) {
+        cam = Camera::fit(b, sc.view_from, sc.fov_deg, aspect);
+        // Keep the requested up vector unless it is parallel to the view direction (fit's own choice then).
+        if (glm::length(glm::cross(glm::normalize(cam.eye - cam.target), glm::normalize(sc.up))) > 1e-6) cam.up = sc.up;
+        return cam;
+    }
+    cam.eye = sc.position;
+    cam.target = sc.has_target ? sc.target : b.centre();
+    if (!(glm::length(cam.target - cam.eye) > 0.0))
+        throw Error("scene '" + s.file + "': camera.position is at the centre of the meshes' bounds: give camera.target");
+    if (glm::length(glm::cross(glm::normalize(cam.target - cam.eye), glm::normalize(sc.up))) < 1e-9)
+        throw Error("scene '" + s.file + "': camera.up is parallel to the view direction: choose another up vector");
+    cam.up = sc.up;
+    cam.fov_y_deg = sc.fov_deg;
+    // Clip planes from the distance to the far side of the bounds; the near plane at 1e-4 of it keeps
+    // 24-bit-class depth precision where the meshes are (the rasteriser interpolates depth in double).
+    const double reach = glm::length(cam.eye - b.centre()) + 2.0 * b.radius();
+    cam.z_near = std::max(reach * 1e-4, 1e-6);
+    cam.z_far = reach * 2.0;
+    return cam;
+}
+
+SceneGeometry load_scene_geometry(const Scene& s, const std::function<Mesh(const std::string&)>& loader) {
+    SceneGeometry g;
+    for (std::size_t i = 0; i < s.meshes.size(); ++i) {
+        const SceneMesh& sm = s.meshes[i];
+        Mesh m;
+        try {
+            m = loader(sm.path);
+        } catch (const Error& e) {
+            throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "] '" + sm.path_written + "': " + e.what());
+        }
+        if (sm.transform != glm::dmat4(1.0)) m.transform(sm.transform);
+        const Bounds b = m.bounds();
+        for (int c = 0; c < 3; ++c)
+            if (!std::isfinite(b.lo[c]) || !std::isfinite(b.hi[c]))
+                throw Error("scene '" + s.file + "': meshes[" + std::to_string(i) + "]: the transform overflows (non-finite coordinates)");
+        if (i == 0) g.bounds = b;
+        g.bounds.lo = glm::min(g.bounds.lo, b.lo);
+        g.bounds.hi = glm::max(g.bounds.hi, b.hi);
+        g.triangles += m.triangles.size();
+        g.meshes.push_back(std::move(m));
+    }
+    g.camera = scene_camera(s, g.bounds);
+    return g;
+}
+
 }  // namespace shadelab

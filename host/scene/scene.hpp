@@ -6,13 +6,16 @@
 // and parameters through resolve_material, unknown keys) and throws shadelab::Error with ONE line that
 // names the file and the field: "scene 'scenes/x.json': meshes[0].material.albedo: expected 3 numbers".
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "mesh/mesh.hpp"
 #include "models/material.hpp"
+#include "raster/camera.hpp"
 #include "shade/shader.hpp"
 
 namespace shadelab {
@@ -72,6 +75,19 @@ Scene load_scene(const std::string& file, const SceneLoadOptions& options = {});
 
 // The same from an already-parsed document; `file` is used for messages and to resolve mesh paths.
 Scene parse_scene(const nlohmann::json& doc, const std::string& file, const SceneLoadOptions& options = {});
+
+// The scene's meshes loaded (by `loader`, e.g. a cache) and moved to world space, their joint bounds,
+// and the camera the scene asks for. Throws shadelab::Error "scene '<file>': meshes[i] '<path>': ...".
+struct SceneGeometry {
+    std::vector<Mesh> meshes;
+    Bounds bounds;
+    Camera camera;
+    std::size_t triangles = 0;
+};
+SceneGeometry load_scene_geometry(const Scene& s, const std::function<Mesh(const std::string&)>& loader);
+
+// The camera of a scene over the given bounds (framed on them, or placed as the scene says).
+Camera scene_camera(const Scene& s, const Bounds& b);
 
 // The keys every object of the schema accepts (for docs and the unknown-key message).
 const std::vector<std::string>& scene_keys(const std::string& object);   // "scene", "camera", "mesh", ...
