@@ -1,0 +1,23 @@
+// Gradient shader (seed 004, "Gradient Shader"): a cosine wave along a world-space direction blends two
+// other models. With g the unit gradient direction, period T and phase phi:
+//   t = 0.5 + 0.5 cos(2 pi (P . g) / T + phi)            (the cosine mapped from [-1, 1] to [0, 1])
+//   value = (1 - t) value_A + t value_B                   (alpha blending of shader A and shader B)
+// The children's headers and eval functions come from SL_CHILD0_HEADER / SL_CHILD0_EVAL (A) and SL_CHILD1_*
+// (B); their constants are at mc + 1 and mc + 2. Constants: c0..c2 = g (unit, from the host), c3 = 2 pi / T,
+// c4 = phi. Leaves out: nothing of its own (the children carry the cosine and the 1/pi convention).
+#ifndef SHADELAB_MODEL_GRADIENT_CL
+#define SHADELAB_MODEL_GRADIENT_CL
+#include "common.cl"
+#include SL_CHILD0_HEADER
+#include SL_CHILD1_HEADER
+
+SL_INLINE float Gradient_Weight(float3 P, __constant const ModelConsts* mc) {
+    const float3 g = (float3)(mc->c[0], mc->c[1], mc->c[2]);
+    return 0.5f + 0.5f * cos(dot(P, g) * mc->c[3] + mc->c[4]);
+}
+
+SL_INLINE float3 gradient_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+    const float t = Gradient_Weight(P, mc);
+    return mix(SL_CHILD0_EVAL(N, L, V, P, mc + 1), SL_CHILD1_EVAL(N, L, V, P, mc + 2), t);
+}
+#endif
