@@ -115,7 +115,7 @@ test::DirectionSweep edge_sweep(const std::vector<double>& nol_edges, const std:
 
 }  // namespace
 
-TEST_CASE("banded kernels match the reference; mismatches only within a few ulps of a band edge",
+TEST_CASE("banded kernels match the reference - mismatches only within a few ulps of a band edge",
           "[banded_toon][kernel]") {
     Shader shader(runtime());
     std::cout << "banded kernels vs double reference, " << sweep().size() << " sweep triples + 9000 placed on band "
@@ -236,7 +236,7 @@ TEST_CASE("banded rule by hand: levels, edge values, and the seed's formula as a
     }
 }
 
-TEST_CASE("banded directional albedo: exactly Lambert's for every steps; the seed's never above 1",
+TEST_CASE("banded directional albedo: exactly Lambert's for every steps - the seed's never above 1",
           "[banded_toon][physics]") {
     // value depends on NoL only: albedo = 2 * integral over NoL in [0, 1]. The integrand is piecewise
     // constant between the edges, so the integral is exact from one reference value per piece; the
@@ -287,7 +287,7 @@ TEST_CASE("banded directional albedo: exactly Lambert's for every steps; the see
     CHECK(std::abs(2.0 * mid / cells - 1.0) <= 2.0 * 7.0 * (1.0 / 7.0) / cells);
 }
 
-TEST_CASE("toon kernel matches the reference; hard-band mismatches only within a few ulps of an edge",
+TEST_CASE("toon kernel matches the reference - hard-band mismatches only within a few ulps of an edge",
           "[banded_toon][kernel]") {
     Shader shader(runtime());
     std::vector<Material> grid = {make("toon"), make("toon", {{"width", 0.0}}), make("toon", {{"width", 0.5}})};

@@ -328,7 +328,7 @@ TEST_CASE("sharded runs write each output once and reports per shard", "[batch]"
     for (const auto& out : outputs) CHECK(fs::exists(out));
 }
 
-TEST_CASE("up-to-date outputs are skipped; a newer scene or --force renders again", "[batch]") {
+TEST_CASE("up-to-date outputs are skipped - a newer scene or --force renders again", "[batch]") {
     const fs::path dir = scratch("uptodate");
     std::ostringstream log;
     BatchOptions o = options_for(dir, log);

@@ -38,7 +38,7 @@ TEST_CASE("CIEDE2000 matches Sharma, Wu & Dalal (2005) Table 1 to 1e-4, both ord
     std::cout << "CIEDE2000: 34 Sharma pairs, max |difference| from the published 4-decimal values " << worst << "\n";
 }
 
-TEST_CASE("Lab of the sRGB primaries and white are the textbook values; round trips are exact", "[color]") {
+TEST_CASE("Lab of the sRGB primaries and white are the textbook values - round trips are exact", "[color]") {
     const glm::dvec3 white = lab_from_linear_srgb({1, 1, 1});
     CHECK(white.x == Approx(100.0).margin(1e-4));
     CHECK(white.y == Approx(0.0).margin(1e-3));

@@ -105,7 +105,7 @@ TEST_CASE("Beckmann and GGX distributions are normalised: integral of D(h) NoH o
     }
 }
 
-TEST_CASE("Schlick against the exact dielectric Fresnel; the seed's literal angle form departs", "[cook_torrance]") {
+TEST_CASE("Schlick against the exact dielectric Fresnel - the seed's literal angle form departs", "[cook_torrance]") {
     // Through the kernels: V = N, L at angle 2a from N gives VoH = cos a; kd = 0, m = 1 (broad lobe).
     Shader shader(runtime());
     std::vector<float> N, L, V, P;

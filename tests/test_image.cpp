@@ -35,7 +35,7 @@ TEST_CASE("sRGB transfer is the IEC 61966-2-1 piecewise curve, not gamma 2.2", "
     CHECK(srgb_encode(7.0) == 1.0);
 }
 
-TEST_CASE("EXR round trip is exact linear float; PNG round trip is within 8-bit sRGB quantisation", "[image]") {
+TEST_CASE("EXR round trip is exact linear float - PNG round trip is within 8-bit sRGB quantisation", "[image]") {
     const fs::path dir = temp_dir();
     Image img(37, 23, 4);
     for (int y = 0; y < img.height; ++y)

@@ -93,7 +93,7 @@ TEST_CASE("mesh: valid file normals are kept, zero or missing ones recomputed an
     }
 }
 
-TEST_CASE("mesh: normals that cancel take an adjacent face's; unused vertices are counted", "[mesh]") {
+TEST_CASE("mesh: normals that cancel take an adjacent face's - unused vertices are counted", "[mesh]") {
     // One triangle listed twice with opposite windings: the area-weighted sums are exactly zero.
     MeshLoadReport r;
     const Mesh m = load_mesh(kData + "/cancel.obj", &r);
@@ -154,7 +154,7 @@ TEST_CASE("mesh: every failure is one line naming the file", "[mesh]") {
                       Catch::Contains(".obj") && Catch::Contains(".off") && Catch::Contains(".ply") && Catch::Contains(".stl"));
 }
 
-TEST_CASE("mesh: binary STL and upper-case extensions load; report counts", "[mesh]") {
+TEST_CASE("mesh: binary STL and upper-case extensions load - report counts", "[mesh]") {
     for (const char* f : {"tetra_binary.stl", "upper_case.OFF", "tetra.off"}) {
         MeshLoadReport r;
         const Mesh m = load_mesh(kData + "/" + f, &r);
@@ -176,7 +176,7 @@ TEST_CASE("mesh: binary STL and upper-case extensions load; report counts", "[me
     }
 }
 
-TEST_CASE("mesh: suzanne's complex edges become notes; its duplicated vertices are reported", "[mesh]") {
+TEST_CASE("mesh: suzanne's complex edges become notes - its duplicated vertices are reported", "[mesh]") {
     MeshLoadReport r;
     const Mesh m = load_mesh(kMeshes + "/suzanne.obj", &r);
     INFO(notes_of(r));

@@ -52,7 +52,7 @@ TEST_CASE("the bundled meshes load with their known counts and unit normals", "[
     }
 }
 
-TEST_CASE("OFF, PLY and STL load; missing normals are computed area-weighted", "[mesh]") {
+TEST_CASE("OFF, PLY and STL load - missing normals are computed area-weighted", "[mesh]") {
     for (const char* f : {"tetra.off", "tetra.ply", "tetra.stl"}) {
         INFO(f);
         MeshLoadReport r;

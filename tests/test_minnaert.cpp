@@ -373,7 +373,7 @@ TEST_CASE("minnaert_unity's saturate clips a fraction -k of uniformly distribute
     }
 }
 
-TEST_CASE("minnaert_blender (d <= 1) is the 1941 law with k = d outside its 0.1 clamp; the clamp's share",
+TEST_CASE("minnaert_blender (d <= 1) is the 1941 law with k = d outside its 0.1 clamp - the clamp's share",
           "[minnaert][identity]") {
     // Where NoV NoL >= 0.1 Blender's "Real model" NoL (nv nl)^(d-1) is NoL^d NoV^(d-1). For NoL, NoV uniform on
     // [0, 1] the clamp region NoL NoV < 0.1 has probability 0.1 + integral_0.1^1 0.1/x dx = 0.1 (1 + ln 10)

@@ -640,7 +640,7 @@ TEST_CASE("moon k map and longitude bins of a uniform Minnaert disc are flat", "
 
 // ------------------------------------------------------------------------------------------ files, plots
 
-TEST_CASE("moon FITS files are standard (bottom row first, 2880-byte blocks) and round trip; fits agree across formats",
+TEST_CASE("moon FITS files are standard (bottom row first, 2880-byte blocks) and round trip - fits agree across formats",
           "[moon][kernel][image]") {
     const fs::path dir = temp_dir();
     const Material m = material("minnaert_1941", {{"k", 0.58}}, 0.35);
@@ -729,7 +729,7 @@ TEST_CASE("moon FITS files are standard (bottom row first, 2880-byte blocks) and
     fs::remove_all(dir);
 }
 
-TEST_CASE("moon plots: gnuplot draws the charts; without gnuplot one error line names gnuplot-nox, CSV kept",
+TEST_CASE("moon plots: gnuplot draws the charts - without gnuplot one error line names gnuplot-nox, CSV kept",
           "[moon][plot]") {
     const fs::path dir = temp_dir();
     const std::string csv = (dir / "c.csv").string(), png = (dir / "c.png").string();

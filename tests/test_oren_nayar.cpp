@@ -495,7 +495,7 @@ double E_FON_closed_form(double mu, double r) {
 }
 }  // namespace
 
-TEST_CASE("white furnace: directional albedo of every model against roughness; EON preserves energy",
+TEST_CASE("white furnace: directional albedo of every model against roughness - EON preserves energy",
           "[oren_nayar][physics][kernel]") {
     // Directional albedo (1/pi) * integral of value over the lit hemisphere, albedo 1, from the kernel on a
     // 512 x 512 midpoint grid in (cos theta, phi). View angles: 0, 60, 82.3 (cos = 0.134, where eon_approx's

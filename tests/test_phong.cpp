@@ -342,7 +342,7 @@ TEST_CASE("phong seed variants: the gloss/4 convention, and the measured effect 
     }
 }
 
-TEST_CASE("energy-normalised lobes integrate to at most 1; the (n+8)/8pi Blinn-Phong factor overshoots",
+TEST_CASE("energy-normalised lobes integrate to at most 1 - the (n+8)/8pi Blinn-Phong factor overshoots",
           "[phong][physics]") {
     const glm::dvec3 black{0, 0, 0}, white{1, 1, 1};
     const double views[] = {0.0, 45.0, 85.0};
@@ -387,7 +387,7 @@ TEST_CASE("energy-normalised lobes integrate to at most 1; the (n+8)/8pi Blinn-P
     for (const char* name : {"phong_seed001", "blinn_phong_seed001"}) CHECK_FALSE(find_model(name).energy_conserving);
 }
 
-TEST_CASE("reciprocity: R(L).V == R(V).L; only the f_r forms (normalised) are reciprocal, as flagged", "[phong][physics]") {
+TEST_CASE("reciprocity: R(L).V == R(V).L - only the f_r forms (normalised) are reciprocal, as flagged", "[phong][physics]") {
     std::mt19937_64 g(4242);
     const glm::dvec3 Nz{0, 0, 1};
     double rr = 0.0;

@@ -105,7 +105,7 @@ TEST_CASE("planner: where nothing cheaper is within tolerance it keeps the reque
         if (c.config.simplify_to_lambert) CHECK_FALSE(c.within);   // Lambert is visibly different here
 }
 
-TEST_CASE("planner: verification at reduced size is stated; speed-ups are measured", "[plan]") {
+TEST_CASE("planner: verification at reduced size is stated - speed-ups are measured", "[plan]") {
     PlanOptions o;
     o.verify_pixels = 64 * 64;
     const Plan p = make_plan(runtime(), sphere_scene(mat("oren_nayar", {{"sigma", 0.0}}), 3, 160), o);

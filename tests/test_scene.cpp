@@ -153,7 +153,7 @@ TEST_CASE("schema errors name the file and the field", "[scene]") {
     CHECK(error_of(missing) == "scene '" + missing + "': file not found");
 }
 
-TEST_CASE("keys starting with an underscore are comments; JSON comments are allowed", "[scene]") {
+TEST_CASE("keys starting with an underscore are comments - JSON comments are allowed", "[scene]") {
     const std::string file = write_scene(
         "comments.json", "// a comment line\n{ \"_comment\": \"free text\", \"meshes\": [ { \"_note\": 1, \"path\": \"" +
                              kData + "/scene_quad.obj\" } ], \"outputs\": { \"_why\": \"x\", \"png\": \"a.png\" } }");

@@ -264,7 +264,7 @@ TEST_CASE("wrap seed variants: measured deviation of the NoL-clamped forms from 
     }
 }
 
-TEST_CASE("wrap directional albedo matches the closed forms; only wrap_energy conserves energy",
+TEST_CASE("wrap directional albedo matches the closed forms - only wrap_energy conserves energy",
           "[wrap][physics]") {
     // value depends on NoL only, so (1/pi) * integral over directions = 2 * integral of value dNoL.
     auto albedo = [](const Material& m, double lo) {
@@ -305,7 +305,7 @@ TEST_CASE("wrap directional albedo matches the closed forms; only wrap_energy co
     }
 }
 
-TEST_CASE("wrap models are not reciprocal (flags say so); wrap_energy at w = 0 is Lambert and is", "[wrap][physics]") {
+TEST_CASE("wrap models are not reciprocal (flags say so) - wrap_energy at w = 0 is Lambert and is", "[wrap][physics]") {
     const glm::dvec3 Nz{0, 0, 1};
     const glm::dvec3 L = light_at(0.2), V = glm::dvec3(-std::sqrt(1 - 0.81), 0.0, 0.9);
     const glm::dvec3 white{1, 1, 1};
