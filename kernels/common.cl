@@ -48,7 +48,7 @@ SL_INLINE float3 sl_finite_or_zero(float3 v) { return select(v, (float3)(0.0f), 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
 // implementations, ~1-4 ulp). SL_FAST ("fast") maps them to the hardware-speed native_ forms and to an
 // exp2/log2 pow, accepting larger error; the error of every model in fast mode is measured against the
-// double reference and documented in docs/speed.md (and bounded by tests/test_precision.cpp).
+// double reference and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
 #ifdef SL_FAST
 SL_INLINE float sl_fast_pow(float x, float y) {
@@ -56,6 +56,11 @@ SL_INLINE float sl_fast_pow(float x, float y) {
     const float r = native_exp2(y * native_log2(x));
     return x == 0.0f ? (y == 0.0f ? 1.0f : (y > 0.0f ? 0.0f : INFINITY)) : r;
 }
+// PoCL's native_sin/cos/tan lose their argument reduction past about 5e4 rad (measured: cos off by 0.023 in
+// [1e5, 1e6]); only a gradient blend with a tiny period reaches there. Large arguments take the full functions.
+SL_INLINE float sl_fast_sin(float x) { return fabs(x) < 3.0e4f ? native_sin(x) : sin(x); }
+SL_INLINE float sl_fast_cos(float x) { return fabs(x) < 3.0e4f ? native_cos(x) : cos(x); }
+SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) : tan(x); }
 // PoCL's own headers already define most built-ins as macros: undefine them first (no redefinition warnings).
 #undef pow
 #undef powr
@@ -76,9 +81,9 @@ SL_INLINE float sl_fast_pow(float x, float y) {
 #define log2(x) native_log2(x)
 #define sqrt(x) native_sqrt(x)
 #define rsqrt(x) native_rsqrt(x)
-#define sin(x) native_sin(x)
-#define cos(x) native_cos(x)
-#define tan(x) native_tan(x)
+#define sin(x) sl_fast_sin(x)
+#define cos(x) sl_fast_cos(x)
+#define tan(x) sl_fast_tan(x)
 #define divide(x, y) native_divide((x), (y))
 #endif
 

@@ -11,6 +11,7 @@ namespace {
 
 double D_Beckmann(double NoH, double m) {
     const double c2 = NoH * NoH;
+    if (c2 == 0.0) return 0.0;   // the limit: exp(-tan^2/m^2) vanishes faster than NoH^4
     const double tan2 = (1.0 - c2) / c2;
     return std::exp(-tan2 / (m * m)) / (M_PI * m * m * c2 * c2);
 }

@@ -12,6 +12,9 @@
 // Beckmann (1963): D = exp((NoH^2 - 1) / (m^2 NoH^2)) / (pi m^2 NoH^4); normalised: integral of D NoH = 1.
 SL_INLINE float D_Beckmann(float NoH, float inv_m2, float inv_pi_m2) {
     const float c2 = NoH * NoH;
+    // Half vector at the horizon (NoH rounds to ~0 at grazing L and V): D is exp(-huge) = 0 there for every
+    // m <= 1, but the formula would compute 0/0. Below NoH^2 = 1e-4 the exact value is already 0 in float.
+    if (c2 < 1e-4f) return 0.0f;
     return exp((c2 - 1.0f) * inv_m2 / c2) * inv_pi_m2 / (c2 * c2);
 }
 
