@@ -1,13 +1,28 @@
-// Host rasteriser: clip, set up, rasterise into a visibility buffer by horizontal bands (one per
-// thread), then emit one fragment per covered pixel in pixel order. See raster.hpp for the rules.
+// Host rasteriser: mesh + camera -> fragment buffer. See raster.hpp for the rules.
+//
+// Stages, each a small function below:
+//   to_clip             world -> clip space (double), once per vertex;
+//   outside_frustum     trivial rejection (all three vertices beyond one frustum plane);
+//   clip_polygon        Sutherland-Hodgman against the near plane (and, rarely, a far-off guard band);
+//   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
+//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box;
+//   raster_band         edge functions at pixel centres + depth test into this band's visibility buffer;
+//   emit_band           perspective-correct interpolation for each visible pixel, in pixel order.
+// Threads: vertices and triangles are split into contiguous ranges for set-up, and the image into horizontal
+// bands for rasterisation and emission; every per-pixel result is computed the same way whatever the split,
+// so the output is bit-identical for any thread count.
 #include "raster/raster.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <sstream>
+#include <string>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -15,7 +30,88 @@ namespace shadelab {
 
 namespace {
 
-// A vertex in clip space carrying the attributes to interpolate.
+constexpr int kMaxImageSide = 16384;
+constexpr int kSubBits = 8;                                   // sub-pixel precision, as GPUs snap
+constexpr std::int64_t kSub = std::int64_t(1) << kSubBits;    // sub-pixel steps per pixel
+constexpr int kMaxPolygon = 9;                                // triangle clipped by 5 planes: <= 8 vertices
+
+// ------------------------------------------------------------------------------------------------------
+// Input validation
+
+std::string str(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+std::string str(const glm::dvec3& v) { return "(" + str(v.x) + ", " + str(v.y) + ", " + str(v.z) + ")"; }
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+[[noreturn]] void fail(const std::string& what) { throw Error("rasteriser: " + what); }
+
+void validate(const Mesh& mesh, const Camera& cam, const RasterOptions& o) {
+    if (o.width < 1 || o.width > kMaxImageSide || o.height < 1 || o.height > kMaxImageSide)
+        fail("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+             " is out of range: width and height must each be in [1, 16384]");
+    if (o.threads < 0)
+        fail("threads " + std::to_string(o.threads) + " is out of range: must be >= 0 (0 = all hardware threads)");
+    if (!finite(cam.eye)) fail("camera eye " + str(cam.eye) + " must be finite");
+    if (!finite(cam.target)) fail("camera target " + str(cam.target) + " must be finite");
+    if (!finite(cam.up)) fail("camera up " + str(cam.up) + " must be finite");
+    if (!(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0))
+        fail("camera field of view " + str(cam.fov_y_deg) + " deg is out of range: must be in (0, 180)");
+    if (!(cam.z_near > 0.0) || !std::isfinite(cam.z_near))
+        fail("camera z_near " + str(cam.z_near) + " is out of range: must be finite and > 0");
+    if (!(cam.z_far > cam.z_near) || !std::isfinite(cam.z_far))
+        fail("camera z_far " + str(cam.z_far) + " is out of range: must be finite and > z_near (" + str(cam.z_near) + ")");
+    if (cam.eye == cam.target) fail("camera eye and target are the same point " + str(cam.eye) + ": move one of them");
+    if (glm::length(glm::cross(cam.target - cam.eye, cam.up)) == 0.0)
+        fail("camera up " + str(cam.up) + " is zero or parallel to the view direction: choose another up vector");
+
+    const std::string name = mesh.source.empty() ? std::string("mesh") : "mesh '" + mesh.source + "'";
+    if (mesh.normals.size() != mesh.positions.size())
+        fail(name + " has " + std::to_string(mesh.normals.size()) + " normals for " +
+             std::to_string(mesh.positions.size()) + " vertices: need one normal per vertex");
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!finite(mesh.positions[i]) || !finite(mesh.normals[i]))
+            fail(name + ": vertex " + std::to_string(i) + " has a non-finite position or normal");
+    const std::size_t nv = mesh.positions.size();
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+            if (mesh.triangles[t][k] >= nv)
+                fail(name + ": triangle " + std::to_string(t) + " refers to vertex " +
+                     std::to_string(mesh.triangles[t][k]) + ", but there are only " + std::to_string(nv) + " vertices");
+}
+
+// ------------------------------------------------------------------------------------------------------
+// Threads
+
+// Runs fn(i) for i in [0, n): i = 0 on the calling thread, the others on their own threads. If a thread
+// cannot be started, its share runs on the calling thread (same results, just slower).
+template <class Fn>
+void run_parallel(int n, const Fn& fn) {
+    std::vector<std::thread> pool;
+    int started = 1;
+    try {
+        pool.reserve(std::size_t(n > 1 ? n - 1 : 0));
+        for (; started < n; ++started) pool.emplace_back([&fn, started] { fn(started); });
+    } catch (...) {
+    }
+    fn(0);
+    for (int i = started; i < n; ++i) fn(i);
+    for (auto& t : pool) t.join();
+}
+
+// [first, last) of part i when [0, n) is split into `parts` contiguous ranges.
+std::size_t split(std::size_t n, int parts, int i) { return n * std::size_t(i) / std::size_t(parts); }
+
+// ------------------------------------------------------------------------------------------------------
+// Geometry stages
+
+// A vertex in clip space carrying the attributes to interpolate. Clip coordinates are an affine function
+// of the world position, so a point a fraction t along an edge in world space is the same fraction t along
+// it in clip space: the clipper may interpolate every attribute linearly in t.
 struct ClipVertex {
     glm::dvec4 clip;
     glm::dvec3 world;
@@ -23,32 +119,31 @@ struct ClipVertex {
     glm::dvec3 bary;   // barycentric position in the original mesh triangle (survives clipping)
 };
 
-// A triangle ready for rasterisation: fixed-point screen positions (1/256 pixel, as GPUs snap), so the
-// edge functions are exact integers and a shared edge gives exactly opposite values on both sides.
-struct SetupTriangle {
-    std::int64_t x[3], y[3];      // 24.8 fixed point, y down
-    std::int64_t area;            // twice the signed area, > 0 after orientation fix
-    double sx[3], sy[3];          // the unsnapped screen positions: attributes are interpolated from these,
-                                  // so snapping decides coverage only and costs no accuracy
-    double z_ndc[3];              // depth, affine in screen space
-    double inv_w[3];              // 1 / clip w, for perspective correction
-    ClipVertex v[3];
-    std::int32_t mesh_triangle;       // index of the mesh triangle it came from
-    int min_x, max_x, min_y, max_y;   // pixel bounding box, clamped to the image
-};
+glm::dvec4 to_clip(const glm::dmat4& view_projection, const glm::dvec3& world) {
+    return view_projection * glm::dvec4(world, 1.0);
+}
 
-constexpr int kSubBits = 8;
-constexpr std::int64_t kSub = 1 << kSubBits;
+// Clip-space half-spaces written as planes p with inside <=> dot(p, clip) >= 0.
+// Near (OpenGL): z_ndc >= -1 <=> z_clip >= -w_clip <=> z + w >= 0; with w = -z_view this is
+// z_view <= -z_near exactly, so clipped vertices have w >= z_near > 0 and the divide is safe.
+const glm::dvec4 kNearPlane{0.0, 0.0, 1.0, 1.0};
 
-// Sutherland-Hodgman against the near plane z_clip >= -w_clip (OpenGL). The intersection of an edge
-// is computed from its endpoints in a canonical order, so the two triangles sharing a clipped edge get
-// bit-identical new vertices (no crack along the near plane).
-ClipVertex intersect_near(const ClipVertex& p, const ClipVertex& q) {
+// Trivially outside the frustum: all three vertices beyond the same one of the six planes.
+bool outside_frustum(const glm::dvec4 v[3]) {
+    const glm::dvec4 &a = v[0], &b = v[1], &c = v[2];
+    return (a.x > a.w && b.x > b.w && c.x > c.w) || (a.x < -a.w && b.x < -b.w && c.x < -c.w) ||
+           (a.y > a.w && b.y > b.w && c.y > c.w) || (a.y < -a.w && b.y < -b.w && c.y < -c.w) ||
+           (a.z > a.w && b.z > b.w && c.z > c.w) || (a.z < -a.w && b.z < -b.w && c.z < -c.w);
+}
+
+// Where edge p-q crosses the plane. The endpoints are put in a canonical order first, so the two triangles
+// sharing an edge compute a bit-identical crossing point (no crack where the plane cuts the shared edge).
+ClipVertex intersect(const ClipVertex& p, const ClipVertex& q, const glm::dvec4& plane) {
     const bool swap = std::tie(p.clip.x, p.clip.y, p.clip.z, p.clip.w) > std::tie(q.clip.x, q.clip.y, q.clip.z, q.clip.w);
     const ClipVertex& a = swap ? q : p;
     const ClipVertex& b = swap ? p : q;
-    const double da = a.clip.z + a.clip.w, db = b.clip.z + b.clip.w;
-    const double t = da / (da - db);
+    const double da = glm::dot(plane, a.clip), db = glm::dot(plane, b.clip);
+    const double t = da / (da - db);   // da and db have opposite signs, so |t| <= 1 and no division by 0
     ClipVertex r;
     r.clip = a.clip + t * (b.clip - a.clip);
     r.world = a.world + t * (b.world - a.world);
@@ -57,260 +152,519 @@ ClipVertex intersect_near(const ClipVertex& p, const ClipVertex& q) {
     return r;
 }
 
-int clip_near(const ClipVertex in[3], ClipVertex out[4]) {
-    int n = 0;
-    for (int i = 0; i < 3; ++i) {
+// Sutherland-Hodgman: one pass of the convex polygon in[0..n) against one plane. A convex polygon stays
+// convex and gains at most one vertex per plane. Returns the new vertex count.
+int clip_polygon(const ClipVertex* in, int n, const glm::dvec4& plane, ClipVertex* out) {
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
         const ClipVertex& cur = in[i];
-        const ClipVertex& nxt = in[(i + 1) % 3];
-        const bool cin = cur.clip.z + cur.clip.w >= 0.0, nin = nxt.clip.z + nxt.clip.w >= 0.0;
-        if (cin) out[n++] = cur;
-        if (cin != nin) out[n++] = intersect_near(cur, nxt);
+        const ClipVertex& nxt = in[(i + 1) % n];
+        const bool cur_in = glm::dot(plane, cur.clip) >= 0.0, nxt_in = glm::dot(plane, nxt.clip) >= 0.0;
+        if (cur_in) out[m++] = cur;
+        if (cur_in != nxt_in) out[m++] = intersect(cur, nxt, plane);
     }
-    return n;
+    return m;
 }
 
-// Trivially outside the frustum: all three vertices beyond the same side plane.
-bool outside_frustum(const ClipVertex v[3]) {
-    auto all = [&](auto pred) { return pred(v[0].clip) && pred(v[1].clip) && pred(v[2].clip); };
-    return all([](const glm::dvec4& c) { return c.x > c.w; }) || all([](const glm::dvec4& c) { return c.x < -c.w; }) ||
-           all([](const glm::dvec4& c) { return c.y > c.w; }) || all([](const glm::dvec4& c) { return c.y < -c.w; }) ||
-           all([](const glm::dvec4& c) { return c.z > c.w; }) || all([](const glm::dvec4& c) { return c.z < -c.w; });
+// Screen position of a clip-space point: perspective divide to NDC ([-1, 1], y up), then to pixels with
+// x in [0, W) to the right and y in [0, H) downwards (row 0 is the top row, so NDC y is flipped).
+glm::dvec2 viewport_transform(const glm::dvec4& c, int width, int height) {
+    const double inv_w = 1.0 / c.w;
+    const double x_ndc = c.x * inv_w, y_ndc = c.y * inv_w;
+    return {(x_ndc * 0.5 + 0.5) * width, (0.5 - y_ndc * 0.5) * height};
 }
 
+// Twice the signed area of (a, b, p), y down: > 0 when p lies to the right of a->b as seen on screen,
+// i.e. when a, b, p run clockwise on the screen. Exact in 64-bit integers for snapped coordinates.
 std::int64_t edge_function(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by, std::int64_t px,
                            std::int64_t py) {
     return (bx - ax) * (py - ay) - (by - ay) * (px - ax);
 }
 
-// Tie rule for a pixel centre exactly on an edge a->b: include it for one direction of the edge only.
-// The neighbour sharing the edge traverses it b->a, so exactly one of the two triangles takes the pixel.
-// (With this orientation it is the usual top-left rule.)
-bool is_top_left(std::int64_t ax, std::int64_t ay, std::int64_t bx, std::int64_t by) {
-    const std::int64_t dx = bx - ax, dy = by - ay;
-    return dy > 0 || (dy == 0 && dx < 0);
+// Top-left fill rule (Direct3D / OpenGL): a pixel centre exactly on an edge belongs to the triangle only if
+// the edge is a top edge (horizontal, triangle below it) or a left edge. With the triangle oriented
+// clockwise on screen (edge_function > 0 inside, interior on the right of each directed edge), a top edge
+// runs in +x (dy == 0, dx > 0) and a left edge runs upwards (dy < 0). The neighbour sharing the edge
+// traverses it in the opposite direction (it lies on the other side), so exactly one of the two takes a
+// pixel on it: the rule is a strict choice between (dx, dy) and (-dx, -dy).
+bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
+
+std::int64_t floor_div(std::int64_t a, std::int64_t b) {   // b > 0
+    const std::int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
 }
 
-bool setup_triangle(const ClipVertex v[3], int width, int height, bool cull, SetupTriangle& t, bool& culled) {
-    culled = false;
-    for (int k = 0; k < 3; ++k) {
-        const double w = v[k].clip.w;
-        if (!(w > 0.0)) return false;
-        const double nx = v[k].clip.x / w, ny = v[k].clip.y / w;
-        // Viewport transform (y down); snap to the sub-pixel grid. Clamp far-off coordinates so the
-        // 64-bit edge products cannot overflow (|coordinate| < 2^22 * 256).
-        const double sx = std::clamp((nx * 0.5 + 0.5) * width, -4.0e6, 4.0e6);
-        const double sy = std::clamp((0.5 - ny * 0.5) * height, -4.0e6, 4.0e6);
-        t.sx[k] = sx;
-        t.sy[k] = sy;
-        t.x[k] = std::llround(sx * kSub);
-        t.y[k] = std::llround(sy * kSub);
-        t.z_ndc[k] = v[k].clip.z / w;
-        t.inv_w[k] = 1.0 / w;
-        t.v[k] = v[k];
-    }
-    t.area = edge_function(t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]);
-    if (t.area == 0) return false;
-    // Counter-clockwise in NDC (y up) is clockwise on screen (y down): front faces have area < 0 here.
-    const bool front = t.area < 0;
-    if (cull && !front) { culled = true; return false; }
-    if (t.area < 0) {
-        std::swap(t.x[1], t.x[2]); std::swap(t.y[1], t.y[2]);
-        std::swap(t.sx[1], t.sx[2]); std::swap(t.sy[1], t.sy[2]);
-        std::swap(t.z_ndc[1], t.z_ndc[2]); std::swap(t.inv_w[1], t.inv_w[2]);
-        std::swap(t.v[1], t.v[2]);
-        t.area = -t.area;
-    }
-    const std::int64_t minx = std::min({t.x[0], t.x[1], t.x[2]}), maxx = std::max({t.x[0], t.x[1], t.x[2]});
-    const std::int64_t miny = std::min({t.y[0], t.y[1], t.y[2]}), maxy = std::max({t.y[0], t.y[1], t.y[2]});
-    // Pixels whose centre (x + 0.5) can lie inside [minx, maxx].
-    t.min_x = int(std::max<std::int64_t>(0, (minx - kSub / 2 + kSub - 1) / kSub - 1));
-    t.max_x = int(std::min<std::int64_t>(width - 1, (maxx - kSub / 2) / kSub + 1));
-    t.min_y = int(std::max<std::int64_t>(0, (miny - kSub / 2 + kSub - 1) / kSub - 1));
-    t.max_y = int(std::min<std::int64_t>(height - 1, (maxy - kSub / 2) / kSub + 1));
-    return t.min_x <= t.max_x && t.min_y <= t.max_y;
+// Round to the nearest sub-pixel (halves up). Inline floor: the result is the same on every thread.
+std::int32_t snap(double pixels) {
+    const double v = pixels * double(kSub) + 0.5;
+    std::int64_t i = std::int64_t(v);
+    if (double(i) > v) --i;
+    return std::int32_t(i);
 }
 
-struct Coverage {
-    bool inside;
-    std::int64_t w0, w1, w2;   // edge functions opposite vertex 0, 1, 2
+// The per-pixel loop's view of a triangle (kept small: every band thread walks all of them).
+struct RasterTri {
+    std::int32_t x[3], y[3];     // snapped screen positions in 1/256 pixel, clockwise on screen
+    double z0, dzdx, dzdy;       // NDC depth plane: z = z0 + dzdx (px - x0) + dzdy (py - y0), in pixels
+    std::int16_t min_x, max_x, min_y, max_y;   // pixels whose centre may be covered, clamped to the image
+    std::uint8_t top_left;       // bit i set: the edge opposite vertex i takes pixel centres lying on it
 };
 
-Coverage cover(const SetupTriangle& t, int px, int py) {
-    const std::int64_t cx = std::int64_t(px) * kSub + kSub / 2, cy = std::int64_t(py) * kSub + kSub / 2;
-    Coverage c;
-    c.w0 = edge_function(t.x[1], t.y[1], t.x[2], t.y[2], cx, cy);
-    c.w1 = edge_function(t.x[2], t.y[2], t.x[0], t.y[0], cx, cy);
-    c.w2 = edge_function(t.x[0], t.y[0], t.x[1], t.y[1], cx, cy);
-    auto ok = [&](std::int64_t w, int a, int b) {
-        return w > 0 || (w == 0 && is_top_left(t.x[a], t.y[a], t.x[b], t.y[b]));
-    };
-    c.inside = ok(c.w0, 1, 2) && ok(c.w1, 2, 0) && ok(c.w2, 0, 1);
-    return c;
+// What emission needs to find a winning triangle's corners again.
+struct ShadeTri {
+    std::int32_t mesh_triangle;
+    std::int32_t clip_vertices;  // -1: the corners are the mesh triangle's vertices (in the order 0, 1, 2,
+                                 // or 0, 2, 1 if `swapped`); else index of the three corners, already in
+                                 // screen order, in the chunk's `clipped` array
+    bool swapped;
+};
+
+// Set-up output of one contiguous range of mesh triangles (one per thread), in mesh order.
+struct Chunk {
+    std::vector<RasterTri> raster;
+    std::vector<ShadeTri> shade;
+    std::vector<ClipVertex> clipped;
+    RasterStats stats;
+};
+
+struct Frame {
+    glm::dmat4 view_projection;
+    int width = 0, height = 0;
+    double guard = 0.0;          // guard band half-width in NDC
+    bool cull = false;
+};
+
+enum class Setup { Kept, Culled, Empty };
+
+// One screen triangle from three clip-space corners (all with w > 0, inside the guard band).
+// `corners`, when the triangle came out of the clipper, are kept for emission; otherwise the corners are
+// the mesh triangle's own vertices.
+Setup setup_triangle(const glm::dvec4 c[3], const ClipVertex* corners, const Frame& f, std::int32_t mesh_triangle,
+                     Chunk& out) {
+    RasterTri r;
+    double z[3];
+    for (int k = 0; k < 3; ++k) {
+        const glm::dvec2 p = viewport_transform(c[k], f.width, f.height);
+        // The guard band keeps |p| below ~2^19.1 pixels, so snapped values fit 28 bits and every edge
+        // function product fits comfortably in 64 bits.
+        r.x[k] = snap(p.x);
+        r.y[k] = snap(p.y);
+        z[k] = c[k].z / c[k].w;
+    }
+    std::int64_t area = edge_function(r.x[0], r.y[0], r.x[1], r.y[1], r.x[2], r.y[2]);
+    if (area == 0) return Setup::Empty;   // edge-on after snapping: covers no pixel centre
+    // Front faces run counter-clockwise on the displayed image (OpenGL); in these y-down coordinates that
+    // is edge_function < 0.
+    const bool front = area < 0;
+    if (f.cull && !front) return Setup::Culled;
+    if (front) {   // make every triangle clockwise on screen, so "inside" is edge_function >= 0
+        std::swap(r.x[1], r.x[2]);
+        std::swap(r.y[1], r.y[2]);
+        std::swap(z[1], z[2]);
+        area = -area;
+    }
+
+    // Bounding box: pixel x's centre is x * kSub + kSub / 2 in sub-pixels; keep the x with a centre in
+    // [min, max] of the snapped vertices, clamped to the image.
+    const std::int64_t lo_x = std::min({r.x[0], r.x[1], r.x[2]}), hi_x = std::max({r.x[0], r.x[1], r.x[2]});
+    const std::int64_t lo_y = std::min({r.y[0], r.y[1], r.y[2]}), hi_y = std::max({r.y[0], r.y[1], r.y[2]});
+    const std::int64_t first_x = -floor_div(-(lo_x - kSub / 2), kSub), last_x = floor_div(hi_x - kSub / 2, kSub);
+    const std::int64_t first_y = -floor_div(-(lo_y - kSub / 2), kSub), last_y = floor_div(hi_y - kSub / 2, kSub);
+    const std::int64_t min_x = std::max<std::int64_t>(first_x, 0), max_x = std::min<std::int64_t>(last_x, f.width - 1);
+    const std::int64_t min_y = std::max<std::int64_t>(first_y, 0), max_y = std::min<std::int64_t>(last_y, f.height - 1);
+    if (min_x > max_x || min_y > max_y) return Setup::Empty;
+    r.min_x = std::int16_t(min_x);   // image sides are <= 16384
+    r.max_x = std::int16_t(max_x);
+    r.min_y = std::int16_t(min_y);
+    r.max_y = std::int16_t(max_y);
+
+    r.top_left = 0;
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        if (is_top_left(std::int64_t(r.x[b]) - r.x[a], std::int64_t(r.y[b]) - r.y[a]))
+            r.top_left = std::uint8_t(r.top_left | (1u << i));
+    }
+
+    // NDC depth is an affine function of screen position (that is what makes a depth buffer work). Its
+    // plane through the three snapped vertices, by Cramer's rule on z - z0 = a (x - x0) + b (y - y0):
+    const double x0 = double(r.x[0]) / double(kSub), y0 = double(r.y[0]) / double(kSub);
+    const double x1 = double(r.x[1]) / double(kSub) - x0, y1 = double(r.y[1]) / double(kSub) - y0;
+    const double x2 = double(r.x[2]) / double(kSub) - x0, y2 = double(r.y[2]) / double(kSub) - y0;
+    const double det = x1 * y2 - x2 * y1;   // = area / kSub^2 > 0
+    r.z0 = z[0];
+    r.dzdx = ((z[1] - z[0]) * y2 - (z[2] - z[0]) * y1) / det;
+    r.dzdy = ((z[2] - z[0]) * x1 - (z[1] - z[0]) * x2) / det;
+
+    ShadeTri s;
+    s.mesh_triangle = mesh_triangle;
+    s.clip_vertices = -1;
+    s.swapped = front;
+    if (corners) {
+        s.clip_vertices = std::int32_t(out.clipped.size());
+        s.swapped = false;
+        out.clipped.push_back(corners[0]);
+        out.clipped.push_back(corners[front ? 2 : 1]);
+        out.clipped.push_back(corners[front ? 1 : 2]);
+    }
+    out.raster.push_back(r);
+    out.shade.push_back(s);
+    return Setup::Kept;
 }
 
-// Screen-space barycentrics of a pixel centre from the unsnapped vertex positions (double precision).
-glm::dvec3 exact_barycentrics(const SetupTriangle& t, int px, int py) {
-    const double cx = px + 0.5, cy = py + 0.5;
-    auto e = [](double ax, double ay, double bx, double by, double x, double y) {
-        return (bx - ax) * (y - ay) - (by - ay) * (x - ax);
+bool near_inside(const glm::dvec4& c) { return glm::dot(kNearPlane, c) >= 0.0; }
+
+bool in_guard_band(const glm::dvec4& c, double guard) {
+    return std::abs(c.x) <= guard * c.w && std::abs(c.y) <= guard * c.w;
+}
+
+// Clip one mesh triangle and set up the screen triangles it becomes (none, one, or a fan of several).
+void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, std::size_t mt, const Frame& f, Chunk& out) {
+    const glm::u32vec3& tri = mesh.triangles[mt];
+    const glm::dvec4 c[3] = {clip[tri[0]], clip[tri[1]], clip[tri[2]]};
+    if (outside_frustum(c)) {
+        ++out.stats.triangles_culled;
+        return;
+    }
+    const bool crosses_near = !near_inside(c[0]) || !near_inside(c[1]) || !near_inside(c[2]);
+    if (!crosses_near && in_guard_band(c[0], f.guard) && in_guard_band(c[1], f.guard) && in_guard_band(c[2], f.guard)) {
+        // The common case: nothing to clip.
+        if (setup_triangle(c, nullptr, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
+        return;
+    }
+
+    ClipVertex poly[kMaxPolygon], tmp[kMaxPolygon];
+    for (int k = 0; k < 3; ++k) {
+        glm::dvec3 unit(0.0);
+        unit[k] = 1.0;
+        poly[k] = {c[k], mesh.positions[tri[k]], mesh.normals[tri[k]], unit};
+    }
+    int n = 3;
+    if (crosses_near) {
+        n = clip_polygon(poly, n, kNearPlane, tmp);
+        std::copy(tmp, tmp + n, poly);
+        ++out.stats.triangles_clipped;
+    }
+    // Guard band: vertices very far off screen (e.g. just in front of the near plane, far to the side) are
+    // clipped to |x|, |y| <= G w, G >> 1, so snapped coordinates stay in range. The cut lies far outside
+    // the image, so it changes no pixel; the triangle's shape on screen is exactly preserved.
+    bool far_off = false;
+    for (int k = 0; k < n; ++k) far_off = far_off || !in_guard_band(poly[k].clip, f.guard);
+    if (far_off) {
+        const glm::dvec4 planes[4] = {{-1, 0, 0, f.guard}, {1, 0, 0, f.guard}, {0, -1, 0, f.guard}, {0, 1, 0, f.guard}};
+        for (const glm::dvec4& p : planes) {
+            n = clip_polygon(poly, n, p, tmp);
+            std::copy(tmp, tmp + n, poly);
+            if (n < 3) return;
+        }
+    }
+    // Fan-triangulate the convex polygon (its inner edges are shared with bit-identical end points, so the
+    // fill rule covers them exactly once, as any other shared edge).
+    int culled = 0, kept = 0;
+    for (int k = 1; k + 1 < n; ++k) {
+        const ClipVertex fan[3] = {poly[0], poly[k], poly[k + 1]};
+        const glm::dvec4 fc[3] = {fan[0].clip, fan[1].clip, fan[2].clip};
+        const Setup r = setup_triangle(fc, fan, f, std::int32_t(mt), out);
+        culled += r == Setup::Culled ? 1 : 0;
+        kept += r == Setup::Kept ? 1 : 0;
+    }
+    if (culled > 0 && kept == 0) ++out.stats.triangles_culled;
+}
+
+// ------------------------------------------------------------------------------------------------------
+// Rasterisation into the visibility buffer (depth + winning triangle), one band of rows per thread
+
+struct Visibility {
+    std::unique_ptr<double[]> depth;         // NDC z of the nearest surface so far
+    std::unique_ptr<std::int32_t[]> owner;   // its set-up triangle id, -1 for none
+};
+
+// Rasterises every triangle (ids in mesh order: chunk by chunk) over rows [y_begin, y_end) of the
+// visibility buffer, which this call also initialises (the band's thread touches its memory first).
+// Returns the number of covered pixels in the band.
+std::size_t raster_band(const std::vector<Chunk>& chunks, int width, int y_begin, int y_end, Visibility& vis) {
+    const std::size_t p_begin = std::size_t(y_begin) * std::size_t(width), p_end = std::size_t(y_end) * std::size_t(width);
+    double* const depth = vis.depth.get();
+    std::int32_t* const owner = vis.owner.get();
+    std::fill(depth + p_begin, depth + p_end, std::numeric_limits<double>::infinity());
+    std::fill(owner + p_begin, owner + p_end, -1);
+
+    std::int32_t id = 0;
+    for (const Chunk& chunk : chunks) {
+        for (const RasterTri& t : chunk.raster) {
+            const std::int32_t tid = id++;
+            const int ya = std::max(int(t.min_y), y_begin), yb = std::min(int(t.max_y), y_end - 1);
+            if (ya > yb) continue;
+            // Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in
+            // sub-pixels, is E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per
+            // pixel in x. A pixel is inside when E_i > 0, or E_i == 0 on a top-left edge; subtracting 1
+            // from the other edges turns both into E_i >= 0 (integers), tested with one sign check.
+            std::int64_t ax[3], ay[3], dx[3], dy[3], bias[3];
+            for (int i = 0; i < 3; ++i) {
+                const int a = (i + 1) % 3, b = (i + 2) % 3;
+                ax[i] = t.x[a];
+                ay[i] = t.y[a];
+                dx[i] = std::int64_t(t.x[b]) - t.x[a];
+                dy[i] = std::int64_t(t.y[b]) - t.y[a];
+                bias[i] = (t.top_left >> i) & 1u ? 0 : 1;
+            }
+            const std::int64_t step0 = -dy[0] * kSub, step1 = -dy[1] * kSub, step2 = -dy[2] * kSub;
+            const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
+            const int min_x = t.min_x, max_x = t.max_x;
+            const std::int64_t cx = std::int64_t(min_x) * kSub + kSub / 2;
+            for (int y = ya; y <= yb; ++y) {
+                const std::int64_t cy = std::int64_t(y) * kSub + kSub / 2;
+                std::int64_t e0 = dx[0] * (cy - ay[0]) - dy[0] * (cx - ax[0]) - bias[0];
+                std::int64_t e1 = dx[1] * (cy - ay[1]) - dy[1] * (cx - ax[1]) - bias[1];
+                std::int64_t e2 = dx[2] * (cy - ay[2]) - dy[2] * (cx - ax[2]) - bias[2];
+                const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
+                std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(min_x);
+                for (int x = min_x; x <= max_x; ++x, ++p, e0 += step0, e1 += step1, e2 += step2) {
+                    if ((e0 | e1 | e2) < 0) continue;
+                    // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so
+                    // it does not depend on where a band starts.
+                    const double z = zy + t.dzdx * (double(x) + 0.5 - x0);
+                    // Far plane test (the near plane was clipped). Nearest wins; on an exact tie the
+                    // earlier, lower-index triangle keeps the pixel (strict <).
+                    if (z <= 1.0 && z < depth[p]) {
+                        depth[p] = z;
+                        owner[p] = tid;
+                    }
+                }
+            }
+        }
+    }
+    return std::size_t(std::count_if(owner + p_begin, owner + p_end, [](std::int32_t o) { return o >= 0; }));
+}
+
+// Band boundaries (rows) giving each thread about the same work: the pixels of every triangle's bounding
+// box, row by row, plus a share per row for clearing and scanning it. Only the split depends on the scene;
+// what each pixel gets never depends on the split.
+std::vector<int> balanced_bands(const std::vector<Chunk>& chunks, int width, int height, int threads) {
+    std::vector<std::int64_t> work(std::size_t(height) + 1, 0);   // difference array over rows
+    for (const Chunk& chunk : chunks)
+        for (const RasterTri& t : chunk.raster) {
+            const std::int64_t w = std::int64_t(t.max_x) - t.min_x + 1;
+            work[std::size_t(t.min_y)] += w;
+            work[std::size_t(t.max_y) + 1] -= w;
+        }
+    std::int64_t running = 0, total = 0;
+    for (int y = 0; y < height; ++y) {
+        running += work[std::size_t(y)];
+        work[std::size_t(y)] = running + width / 4 + 1;
+        total += work[std::size_t(y)];
+    }
+    std::vector<int> bands(std::size_t(threads) + 1, height);
+    bands[0] = 0;
+    std::int64_t done = 0;
+    int next = 1;
+    for (int y = 0; y < height && next < threads; ++y) {
+        done += work[std::size_t(y)];
+        while (next < threads && double(done) * threads >= double(total) * next) bands[std::size_t(next++)] = y + 1;
+    }
+    return bands;
+}
+
+// ------------------------------------------------------------------------------------------------------
+// Emission
+
+// Screen-space barycentrics of point (px, py) from the unsnapped vertex positions (snapping decides
+// coverage only; attributes are interpolated from the exact positions).
+glm::dvec3 screen_barycentrics(const glm::dvec2 s[3], double px, double py) {
+    auto e = [](const glm::dvec2& a, const glm::dvec2& b, double x, double y) {
+        return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
     };
-    const double w0 = e(t.sx[1], t.sy[1], t.sx[2], t.sy[2], cx, cy);
-    const double w1 = e(t.sx[2], t.sy[2], t.sx[0], t.sy[0], cx, cy);
-    const double w2 = e(t.sx[0], t.sy[0], t.sx[1], t.sy[1], cx, cy);
+    const double w0 = e(s[1], s[2], px, py);
+    const double w1 = e(s[2], s[0], px, py);
+    const double w2 = e(s[0], s[1], px, py);
     const double sum = w0 + w1 + w2;
     return sum != 0.0 ? glm::dvec3(w0, w1, w2) / sum : glm::dvec3(1.0 / 3.0);
 }
 
-void validate(const Camera& cam, const RasterOptions& o) {
-    auto bad = [](const std::string& what) { throw Error("rasteriser: " + what); };
-    if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
-        bad("image size " + std::to_string(o.width) + "x" + std::to_string(o.height) + " is out of range: each side must be in [1, 16384]");
-    for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(cam.eye[k]) || !std::isfinite(cam.target[k]) || !std::isfinite(cam.up[k]))
-            bad("camera eye/target/up must be finite");
-    if (!(cam.fov_y_deg > 0.0 && cam.fov_y_deg < 180.0))
-        bad("field of view " + std::to_string(cam.fov_y_deg) + " deg is out of range: use (0, 180)");
-    if (!(cam.z_near > 0.0) || !(cam.z_far > cam.z_near)) bad("clip distances need 0 < z_near < z_far");
-    if (glm::length(cam.target - cam.eye) == 0.0) bad("camera eye and target are the same point: move one");
-    if (glm::length(glm::cross(cam.target - cam.eye, cam.up)) == 0.0) bad("camera up vector is parallel to the view direction");
+// Perspective-correct weights from screen-space barycentrics b (Heckbert & Moreton 1991; Low 2002,
+// "Perspective-Correct Interpolation"). A world-space attribute a is affine on the triangle, a = sum l_i a_i,
+// but the screen position is its projection (x/w, y/w), under which a is not affine; a/w and 1/w are
+// (they are affine functions of x/w, y/w on the triangle's plane). So a/w = sum b_i a_i / w_i and
+// 1/w = sum b_i / w_i, giving l_i = (b_i / w_i) / sum_j (b_j / w_j).
+glm::dvec3 interpolate_perspective(const glm::dvec3& b, const double inv_w[3]) {
+    const glm::dvec3 q(b.x * inv_w[0], b.y * inv_w[1], b.z * inv_w[2]);
+    return q / (q.x + q.y + q.z);
+}
+
+// A winning triangle's corners, in screen order, with everything interpolation needs.
+struct Corners {
+    glm::dvec2 screen[3];
+    double inv_w[3];
+    glm::dvec3 world[3], normal[3], bary[3];
+    std::int32_t mesh_triangle;
+};
+
+struct EmitContext {
+    const Mesh* mesh;
+    const glm::dvec4* clip;
+    const std::vector<Chunk>* chunks;
+    const std::vector<std::int32_t>* first_id;   // first set-up triangle id of each chunk (+ total)
+    const Visibility* vis;
+    glm::dvec3 eye, forward;
+    bool flip;
+    int width, height;
+};
+
+Corners corners_of(const EmitContext& c, std::int32_t id) {
+    const std::vector<std::int32_t>& first_id = *c.first_id;
+    const std::size_t ci = std::size_t(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
+    const Chunk& chunk = (*c.chunks)[ci];
+    const ShadeTri& s = chunk.shade[std::size_t(id - first_id[ci])];
+    const Mesh& mesh = *c.mesh;
+    const glm::u32vec3& tri = mesh.triangles[std::size_t(s.mesh_triangle)];
+    Corners k;
+    for (int i = 0; i < 3; ++i) {
+        glm::dvec4 cl;
+        if (s.clip_vertices >= 0) {
+            const ClipVertex& v = chunk.clipped[std::size_t(s.clip_vertices + i)];
+            cl = v.clip;
+            k.world[i] = v.world;
+            k.normal[i] = v.normal;
+            k.bary[i] = v.bary;
+        } else {
+            const int slot = s.swapped && i > 0 ? 3 - i : i;
+            cl = c.clip[tri[slot]];
+            k.world[i] = mesh.positions[tri[slot]];
+            k.normal[i] = mesh.normals[tri[slot]];
+            k.bary[i] = glm::dvec3(0.0);
+            k.bary[i][slot] = 1.0;
+        }
+        k.screen[i] = viewport_transform(cl, c.width, c.height);   // the same function set-up used
+        k.inv_w[i] = 1.0 / cl.w;
+    }
+    k.mesh_triangle = s.mesh_triangle;
+    return k;
+}
+
+// Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on.
+void emit_band(const EmitContext& c, int y_begin, int y_end, std::size_t at, FragmentBuffer& fb) {
+    // A triangle's pixels come in runs on a few consecutive rows: a small direct-mapped cache of corners
+    // (by triangle id) looks each triangle up about once.
+    constexpr std::size_t kCache = 256;
+    std::vector<std::int32_t> cached(kCache, -1);
+    std::vector<Corners> cache(kCache);
+    for (int y = y_begin; y < y_end; ++y)
+        for (int x = 0; x < c.width; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(c.width) + std::size_t(x);
+            const std::int32_t id = c.vis->owner[p];
+            if (id < 0) continue;
+            const std::size_t slot = std::size_t(id) % kCache;
+            if (cached[slot] != id) {
+                cache[slot] = corners_of(c, id);
+                cached[slot] = id;
+            }
+            const Corners& k = cache[slot];
+            const glm::dvec3 l = interpolate_perspective(screen_barycentrics(k.screen, x + 0.5, y + 0.5), k.inv_w);
+            const glm::dvec3 P = l.x * k.world[0] + l.y * k.world[1] + l.z * k.world[2];
+            glm::dvec3 N = l.x * k.normal[0] + l.y * k.normal[1] + l.z * k.normal[2];
+            const double len = glm::length(N);
+            if (len > 0.0) {
+                N /= len;
+            } else {   // opposite vertex normals cancel here: fall back to the face normal (mesh winding)
+                const Mesh& m = *c.mesh;
+                const glm::u32vec3& tri = m.triangles[std::size_t(k.mesh_triangle)];
+                N = glm::normalize(glm::cross(m.positions[tri[1]] - m.positions[tri[0]], m.positions[tri[2]] - m.positions[tri[0]]));
+                if (!finite(N)) N = -c.forward;
+            }
+            if (c.flip && glm::dot(N, c.eye - P) < 0.0) N = -N;
+            // Depth: view-space distance along the camera axis (-z_view), from the interpolated position.
+            const double d = glm::dot(P - c.eye, c.forward);
+            const glm::dvec3 b = l.x * k.bary[0] + l.y * k.bary[1] + l.z * k.bary[2];
+
+            fb.px[at] = float(P.x);
+            fb.py[at] = float(P.y);
+            fb.pz[at] = float(P.z);
+            fb.nx[at] = float(N.x);
+            fb.ny[at] = float(N.y);
+            fb.nz[at] = float(N.z);
+            fb.pixel[at] = std::int32_t(p);
+            fb.depth[at] = float(d);
+            fb.triangle[at] = k.mesh_triangle;
+            fb.b1[at] = float(b.y);
+            fb.b2[at] = float(b.z);
+            ++at;
+        }
 }
 
 }  // namespace
 
 FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOptions& options, RasterStats* stats) {
-    validate(camera, options);
+    validate(mesh, camera, options);
     const int W = options.width, H = options.height;
-    const glm::dmat4 view = camera.view();
-    const glm::dmat4 vp = camera.projection(double(W) / H) * view;
-    RasterStats st;
-    st.triangles_in = mesh.triangles.size();
-
-    // Transform every vertex once.
-    std::vector<glm::dvec4> clip(mesh.positions.size());
-    for (std::size_t i = 0; i < clip.size(); ++i) clip[i] = vp * glm::dvec4(mesh.positions[i], 1.0);
-
-    // Clip and set up, in mesh order (the order is the depth tie-break).
-    std::vector<SetupTriangle> tris;
-    tris.reserve(mesh.triangles.size());
-    for (std::size_t mt = 0; mt < mesh.triangles.size(); ++mt) {
-        const auto& tri = mesh.triangles[mt];
-        ClipVertex v[3];
-        for (int k = 0; k < 3; ++k) {
-            glm::dvec3 unit(0.0);
-            unit[k] = 1.0;
-            v[k] = {clip[tri[k]], mesh.positions[tri[k]], mesh.normals[tri[k]], unit};
-        }
-        if (outside_frustum(v)) { ++st.triangles_culled; continue; }
-        ClipVertex poly[4];
-        int n = 3;
-        if (v[0].clip.z + v[0].clip.w < 0 || v[1].clip.z + v[1].clip.w < 0 || v[2].clip.z + v[2].clip.w < 0) {
-            n = clip_near(v, poly);
-            ++st.triangles_clipped;
-        } else {
-            std::copy(v, v + 3, poly);
-        }
-        for (int k = 1; k + 1 < n; ++k) {
-            const ClipVertex f[3] = {poly[0], poly[k], poly[k + 1]};
-            SetupTriangle t;
-            bool culled = false;
-            t.mesh_triangle = std::int32_t(mt);
-            if (setup_triangle(f, W, H, options.cull_backfaces, t, culled)) tris.push_back(t);
-            else if (culled && k == 1) ++st.triangles_culled;
-        }
-    }
-
-    // Rasterise by bands of rows: each thread owns its rows of the visibility buffer.
-    const std::size_t npix = std::size_t(W) * H;
-    std::vector<double> depth(npix, std::numeric_limits<double>::infinity());
-    std::vector<std::int32_t> owner(npix, -1);
     int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min(threads, H));
-    auto raster_band = [&](int y0, int y1) {
-        for (std::size_t ti = 0; ti < tris.size(); ++ti) {
-            const SetupTriangle& t = tris[ti];
-            const int ya = std::max(t.min_y, y0), yb = std::min(t.max_y, y1 - 1);
-            for (int y = ya; y <= yb; ++y)
-                for (int x = t.min_x; x <= t.max_x; ++x) {
-                    const Coverage c = cover(t, x, y);
-                    if (!c.inside) continue;
-                    // Screen-space barycentrics; NDC depth is affine in screen space.
-                    const glm::dvec3 b = exact_barycentrics(t, x, y);
-                    const double z = b.x * t.z_ndc[0] + b.y * t.z_ndc[1] + b.z * t.z_ndc[2];
-                    if (z < -1.0 - 1e-9 || z > 1.0) continue;   // beyond the far plane (near is clipped)
-                    const std::size_t p = std::size_t(y) * W + x;
-                    // Nearest wins; exact ties go to the lower triangle index, which was written first.
-                    if (z < depth[p]) {
-                        depth[p] = z;
-                        owner[p] = std::int32_t(ti);
-                    }
-                }
-        }
-    };
-    auto band = [&](int i) { return int(std::int64_t(H) * i / threads); };
-    {
-        std::vector<std::thread> pool;
-        for (int i = 1; i < threads; ++i) pool.emplace_back(raster_band, band(i), band(i + 1));
-        raster_band(band(0), band(1));
-        for (auto& th : pool) th.join();
+
+    Frame f;
+    f.view_projection = camera.projection(double(W) / double(H)) * camera.view();
+    f.width = W;
+    f.height = H;
+    f.guard = double(1 << 20) / double(std::max(W, H));   // >= 64; |screen| <= 2^19 + 2^13 pixels
+    f.cull = options.cull_backfaces;
+
+    // Large scratch arrays are left uninitialised here and first written by the thread that uses them.
+    // 1. Vertices to clip space.
+    const std::size_t nv = mesh.positions.size();
+    std::unique_ptr<glm::dvec4[]> clip(new glm::dvec4[nv]);
+    run_parallel(threads, [&](int i) {
+        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v)
+            clip[v] = to_clip(f.view_projection, mesh.positions[v]);
+    });
+
+    // 2. Triangle set-up, contiguous ranges of mesh triangles; ids follow mesh order (the depth tie-break).
+    std::vector<Chunk> chunks(static_cast<std::size_t>(threads));
+    const std::size_t nt = mesh.triangles.size();
+    run_parallel(threads, [&](int i) {
+        Chunk& chunk = chunks[std::size_t(i)];
+        const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
+        chunk.raster.reserve(e - b + 8);
+        chunk.shade.reserve(e - b + 8);
+        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), t, f, chunk);
+    });
+    std::vector<std::int32_t> first_id(chunks.size() + 1, 0);
+    for (std::size_t i = 0; i < chunks.size(); ++i) {
+        if (chunks[i].raster.size() >= std::size_t(std::numeric_limits<std::int32_t>::max() - first_id[i]))
+            fail("mesh '" + mesh.source + "' has too many triangles (2^31 or more after clipping)");
+        first_id[i + 1] = first_id[i] + std::int32_t(chunks[i].raster.size());
     }
 
-    // Emit fragments in pixel order, each band into its own buffer, then concatenate.
-    const glm::dvec3 fwd = glm::normalize(camera.target - camera.eye);
-    std::vector<FragmentBuffer> parts(static_cast<std::size_t>(threads));
-    auto emit_band = [&](int i) {
-        FragmentBuffer& out = parts[std::size_t(i)];
-        for (int y = band(i); y < band(i + 1); ++y)
-            for (int x = 0; x < W; ++x) {
-                const std::size_t p = std::size_t(y) * W + x;
-                if (owner[p] < 0) continue;
-                const SetupTriangle& t = tris[std::size_t(owner[p])];
-                const glm::dvec3 b = exact_barycentrics(t, x, y);
-                // Perspective-correct weights: screen barycentrics divided by clip w, renormalised
-                // (attributes/w are affine in screen space; Low 2002, "Perspective-Correct Interpolation").
-                const double q0 = b.x * t.inv_w[0], q1 = b.y * t.inv_w[1], q2 = b.z * t.inv_w[2];
-                const double s = q0 + q1 + q2;
-                const double l0 = q0 / s, l1 = q1 / s, l2 = q2 / s;
-                const glm::dvec3 P = l0 * t.v[0].world + l1 * t.v[1].world + l2 * t.v[2].world;
-                glm::dvec3 N = l0 * t.v[0].normal + l1 * t.v[1].normal + l2 * t.v[2].normal;
-                const double len = glm::length(N);
-                if (len > 0.0) N /= len;
-                else N = glm::normalize(glm::cross(t.v[1].world - t.v[0].world, t.v[2].world - t.v[0].world));
-                if (options.flip_normals_to_viewer && glm::dot(N, camera.eye - P) < 0.0) N = -N;
-                const double d = glm::dot(P - camera.eye, fwd);
-                const glm::dvec3 bary = l0 * t.v[0].bary + l1 * t.v[1].bary + l2 * t.v[2].bary;
-                out.push_back(float(P.x), float(P.y), float(P.z), float(N.x), float(N.y), float(N.z), std::int32_t(p), float(d));
-                out.triangle.push_back(t.mesh_triangle);
-                out.b1.push_back(float(bary.y));
-                out.b2.push_back(float(bary.z));
-            }
-    };
-    {
-        std::vector<std::thread> pool;
-        for (int i = 1; i < threads; ++i) pool.emplace_back(emit_band, i);
-        emit_band(0);
-        for (auto& th : pool) th.join();
-    }
+    // 3. Rasterise into the visibility buffer, a band of rows per thread (each owns its rows: no locks).
+    const std::size_t npix = std::size_t(W) * std::size_t(H);
+    Visibility vis;
+    vis.depth.reset(new double[npix]);
+    vis.owner.reset(new std::int32_t[npix]);
+    const std::vector<int> bands = balanced_bands(chunks, W, H, threads);
+    auto band = [&](int i) { return bands[std::size_t(i)]; };
+    std::vector<std::size_t> covered(std::size_t(threads), 0);
+    run_parallel(threads, [&](int i) { covered[std::size_t(i)] = raster_band(chunks, W, band(i), band(i + 1), vis); });
+
+    // 4. Emit fragments in pixel order: each band writes its own slice of the buffer.
+    std::vector<std::size_t> at(std::size_t(threads) + 1, 0);
+    for (std::size_t i = 0; i < covered.size(); ++i) at[i + 1] = at[i] + covered[i];
     FragmentBuffer fb;
-    std::size_t total = 0;
-    for (const auto& part : parts) total += part.size();
-    fb.reserve(total);
-    for (const auto& part : parts) {
-        fb.px.insert(fb.px.end(), part.px.begin(), part.px.end());
-        fb.py.insert(fb.py.end(), part.py.begin(), part.py.end());
-        fb.pz.insert(fb.pz.end(), part.pz.begin(), part.pz.end());
-        fb.nx.insert(fb.nx.end(), part.nx.begin(), part.nx.end());
-        fb.ny.insert(fb.ny.end(), part.ny.begin(), part.ny.end());
-        fb.nz.insert(fb.nz.end(), part.nz.begin(), part.nz.end());
-        fb.pixel.insert(fb.pixel.end(), part.pixel.begin(), part.pixel.end());
-        fb.depth.insert(fb.depth.end(), part.depth.begin(), part.depth.end());
-        fb.triangle.insert(fb.triangle.end(), part.triangle.begin(), part.triangle.end());
-        fb.b1.insert(fb.b1.end(), part.b1.begin(), part.b1.end());
-        fb.b2.insert(fb.b2.end(), part.b2.begin(), part.b2.end());
-    }
     fb.width = W;
     fb.height = H;
-    st.fragments = fb.size();
-    if (stats) *stats = st;
+    fb.resize(at.back());
+    fb.triangle.resize(at.back());
+    fb.b1.resize(at.back());
+    fb.b2.resize(at.back());
+    const EmitContext ctx{&mesh, clip.get(), &chunks, &first_id, &vis, camera.eye,
+                          glm::normalize(camera.target - camera.eye), options.flip_normals_to_viewer, W, H};
+    run_parallel(threads, [&](int i) { emit_band(ctx, band(i), band(i + 1), at[std::size_t(i)], fb); });
+
+    if (stats) {
+        RasterStats st;
+        st.triangles_in = nt;
+        for (const Chunk& c : chunks) {
+            st.triangles_culled += c.stats.triangles_culled;
+            st.triangles_clipped += c.stats.triangles_clipped;
+        }
+        st.fragments = fb.size();
+        *stats = st;
+    }
     return fb;
 }
 

@@ -1,0 +1,699 @@
+// Rasteriser known answers: exact pixel coverage and the top-left fill rule, watertight shared edges
+// (fans, grids, mixed windings), depth order, perspective-correct interpolation, near-plane and guard-band
+// clipping, determinism across thread counts, back-face culling, camera framing, bad input.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "core/error.hpp"
+#include "mesh/mesh.hpp"
+#include "raster/raster.hpp"
+
+using namespace shadelab;
+
+namespace {
+
+// Camera at (0, 0, 1) looking at the origin with a 90 degree field of view: on an N x N image the plane
+// z = 0 maps to screen x = N/2 (1 + X), y = N/2 (1 - Y) (y down), i.e. the plane spans [-1, 1]^2.
+Camera unit_camera() {
+    Camera c;
+    c.eye = {0, 0, 1};
+    c.target = {0, 0, 0};
+    c.up = {0, 1, 0};
+    c.fov_y_deg = 90.0;
+    c.z_near = 0.01;
+    c.z_far = 100.0;
+    return c;
+}
+
+// The world point on the plane z = 0 that unit_camera() shows at screen position (sx, sy) of an N x N image.
+glm::dvec3 plane_point(double sx, double sy, int n) {
+    const double t = std::tan(glm::radians(90.0) / 2.0);   // what glm::perspective divides by
+    return {(2.0 * sx / n - 1.0) * t, (1.0 - 2.0 * sy / n) * t, 0.0};
+}
+
+RasterOptions opts(int w, int h, int threads = 0) {
+    RasterOptions o;
+    o.width = w;
+    o.height = h;
+    o.threads = threads;
+    return o;
+}
+
+// Appends a mesh's vertices and triangles to another.
+void append(Mesh& to, const Mesh& from) {
+    const auto off = glm::u32(to.positions.size());
+    to.positions.insert(to.positions.end(), from.positions.begin(), from.positions.end());
+    to.normals.insert(to.normals.end(), from.normals.begin(), from.normals.end());
+    for (const auto& t : from.triangles) to.triangles.push_back(t + glm::u32vec3(off));
+}
+
+// A screen rectangle [x0, x1] x [y0, y1] (pixels, y down) on the plane z = 0 of unit_camera(), as two
+// triangles (front face towards the camera), all normals `n`.
+Mesh screen_rect(double x0, double y0, double x1, double y1, int n, glm::dvec3 normal = {0, 0, 1}, double z = 0.0) {
+    Mesh m;
+    for (auto s : {glm::dvec2(x0, y1), glm::dvec2(x1, y1), glm::dvec2(x1, y0), glm::dvec2(x0, y0)}) {
+        glm::dvec3 p = plane_point(s.x, s.y, n);
+        m.positions.push_back({p.x, p.y, z});
+    }
+    m.normals.assign(4, normal);
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    return m;
+}
+
+std::set<int> pixel_set(const FragmentBuffer& fb) { return std::set<int>(fb.pixel.begin(), fb.pixel.end()); }
+
+bool no_repeats(const FragmentBuffer& fb) { return pixel_set(fb).size() == fb.size(); }
+
+std::string describe(const Camera& c) {
+    std::ostringstream s;
+    s << "eye (" << c.eye.x << ", " << c.eye.y << ", " << c.eye.z << ") target (" << c.target.x << ", "
+      << c.target.y << ", " << c.target.z << ") fov " << c.fov_y_deg << " near " << c.z_near << " far " << c.z_far;
+    return s.str();
+}
+
+// The ray through screen point (sx, sy) (pixels, y down), world space, unit length.
+glm::dvec3 screen_ray(const Camera& c, int w, int h, double sx, double sy) {
+    const double t = std::tan(glm::radians(c.fov_y_deg) / 2.0);
+    const double nx = 2.0 * sx / w - 1.0, ny = 1.0 - 2.0 * sy / h;
+    const glm::dvec3 f = glm::normalize(c.target - c.eye), r = glm::normalize(glm::cross(f, c.up)), u = glm::cross(r, f);
+    return glm::normalize(f + nx * t * (double(w) / h) * r + ny * t * u);
+}
+
+// The ray through the centre of pixel (x, y).
+glm::dvec3 pixel_ray(const Camera& c, int w, int h, int x, int y) { return screen_ray(c, w, h, x + 0.5, y + 0.5); }
+
+// Exact coverage of a convex screen polygon (vertices in 1/256 pixel, any winding) by the top-left rule,
+// decided for the polygon as a whole: a pixel centre strictly inside every edge is covered; one exactly on
+// an edge only if that edge is a top edge (horizontal, polygon below) or a left edge.
+bool polygon_covers(const std::vector<glm::i64vec2>& poly_in, int x, int y) {
+    std::vector<glm::i64vec2> poly = poly_in;
+    std::int64_t area = 0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const auto& a = poly[i];
+        const auto& b = poly[(i + 1) % poly.size()];
+        area += a.x * b.y - b.x * a.y;
+    }
+    if (area < 0) std::reverse(poly.begin(), poly.end());   // now clockwise on screen (y down)
+    const std::int64_t cx = 256 * std::int64_t(x) + 128, cy = 256 * std::int64_t(y) + 128;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const auto& a = poly[i];
+        const auto& b = poly[(i + 1) % poly.size()];
+        const std::int64_t e = (b.x - a.x) * (cy - a.y) - (b.y - a.y) * (cx - a.x);   // > 0: inside (on the right)
+        if (e < 0) return false;
+        if (e == 0) {
+            const bool top = b.y == a.y && b.x > a.x;   // interior below a horizontal edge running right
+            const bool left = b.y < a.y;                // interior to the right of an edge running up
+            if (!top && !left) return false;
+        }
+    }
+    return true;
+}
+
+// A mesh on the plane z = 0 of unit_camera() from screen vertices in 1/256 pixel (exactly representable,
+// so the rasteriser's snapping reproduces them).
+Mesh screen_mesh(const std::vector<glm::i64vec2>& v, const std::vector<glm::u32vec3>& tris, int n) {
+    Mesh m;
+    for (const auto& s : v) {
+        m.positions.push_back(plane_point(double(s.x) / 256.0, double(s.y) / 256.0, n));
+        m.normals.push_back({0, 0, 1});
+    }
+    m.triangles = tris;
+    return m;
+}
+
+// A cube [-1, 1]^3 with 4 vertices per face (flat normals), counter-clockwise seen from outside.
+Mesh cube() {
+    Mesh m;
+    const glm::dvec3 axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int a = 0; a < 3; ++a)
+        for (double s : {-1.0, 1.0}) {
+            const glm::dvec3 n = s * axes[a];
+            const glm::dvec3 u = axes[(a + 1) % 3], v = glm::cross(n, u);   // u x v = n: counter-clockwise
+            const auto base = glm::u32(m.positions.size());
+            for (auto uv : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)}) {
+                m.positions.push_back(n + uv.x * u + uv.y * v);
+                m.normals.push_back(n);
+            }
+            m.triangles.push_back({base, base + 1, base + 2});
+            m.triangles.push_back({base, base + 2, base + 3});
+        }
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("raster: a screen-aligned square covers exactly its area - half-pixel edges follow the top-left rule", "[raster]") {
+    const int n = 256;
+    const Camera cam = unit_camera();
+    // Edges on pixel boundaries: columns and rows 96..159.
+    FragmentBuffer fb = rasterize(screen_rect(96, 96, 160, 160, n), cam, opts(n, n));
+    INFO("square [96, 160]^2 on a " << n << "^2 image, " << describe(cam));
+    CHECK(fb.size() == 64u * 64u);
+    CHECK(no_repeats(fb));
+    CHECK(fb.width == n);
+    CHECK(fb.height == n);
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+        const int x = fb.pixel[i] % n, y = fb.pixel[i] / n;
+        CHECK((x >= 96 && x < 160 && y >= 96 && y < 160));
+    }
+
+    // Edges through pixel centres (and the shared diagonal through pixel centres too): the top edge and the
+    // left edge take their pixels, the bottom and right edges do not, so exactly [96, 159]^2 again.
+    fb = rasterize(screen_rect(96.5, 96.5, 160.5, 160.5, n), cam, opts(n, n));
+    INFO("square [96.5, 160.5]^2");
+    CHECK(fb.size() == 64u * 64u);
+    CHECK(no_repeats(fb));
+    std::set<int> want;
+    for (int y = 96; y < 160; ++y)
+        for (int x = 96; x < 160; ++x) want.insert(y * n + x);
+    CHECK(pixel_set(fb) == want);
+    CHECK(std::is_sorted(fb.pixel.begin(), fb.pixel.end()));
+}
+
+TEST_CASE("raster: y = 0 is the top row, x = 0 the left column, pixel = y * width + x", "[raster]") {
+    // A small quad up and to the left of the view axis, on a wide image.
+    const int w = 200, h = 100;
+    Camera cam = unit_camera();
+    Mesh m;
+    m.positions = {{-0.9, 0.5, 0}, {-0.5, 0.5, 0}, {-0.5, 0.9, 0}, {-0.9, 0.9, 0}};
+    m.normals.assign(4, glm::dvec3(0, 0, 1));
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    const FragmentBuffer fb = rasterize(m, cam, opts(w, h));
+    REQUIRE(fb.size() > 50);
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+        const int x = fb.pixel[i] % w, y = fb.pixel[i] / w;
+        INFO("fragment " << i << " at (" << x << ", " << y << ")");
+        CHECK(x < w / 2);
+        CHECK(y < h / 2);
+        // At distance 1 the view spans tan(45 deg) * aspect = 2 to either side, and 1 up and down.
+        const double sx = (fb.px[i] / 2.0 * 0.5 + 0.5) * w, sy = (0.5 - fb.py[i] * 0.5) * h;
+        CHECK(std::abs(sx - (x + 0.5)) < 1e-3);
+        CHECK(std::abs(sy - (y + 0.5)) < 1e-3);
+    }
+}
+
+TEST_CASE("raster: triangles sharing edges cover each pixel exactly once (diagonal pair, fans, jittered grids, mixed windings)", "[raster]") {
+    const int n = 128;
+    const Camera cam = unit_camera();
+    std::mt19937_64 rng(20240611);
+    auto uniform = [&](std::int64_t lo, std::int64_t hi) { return lo + std::int64_t(rng() % std::uint64_t(hi - lo + 1)); };
+
+    SECTION("two triangles sharing a diagonal at random slopes") {
+        for (int trial = 0; trial < 50; ++trial) {
+            // A random convex quad (on a circle) split along a diagonal; its vertices anywhere in 1/256 pixel,
+            // often on pixel centres.
+            std::vector<glm::i64vec2> v;
+            const double cx = double(uniform(40, 88)), cy = double(uniform(40, 88)), r = double(uniform(15, 38));
+            for (int k = 0; k < 4; ++k) {
+                const double a = (k + 0.2 * double(uniform(0, 4)) / 4.0) * 1.5707963267948966;
+                std::int64_t sx = std::int64_t(256 * (cx + r * std::cos(a))), sy = std::int64_t(256 * (cy + r * std::sin(a)));
+                if (rng() % 2) sx = (sx / 256) * 256 + 128, sy = (sy / 256) * 256 + 128;   // on a pixel centre
+                v.push_back({sx, sy});
+            }
+            const Mesh m = screen_mesh(v, {{0, 1, 2}, {0, 2, 3}}, n);
+            const FragmentBuffer fb = rasterize(m, cam, opts(n, n));
+            std::set<int> want;
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x)
+                    if (polygon_covers(v, x, y)) want.insert(y * n + x);
+            INFO("trial " << trial << ": quad (" << v[0].x << "," << v[0].y << ") (" << v[1].x << "," << v[1].y << ") ("
+                          << v[2].x << "," << v[2].y << ") (" << v[3].x << "," << v[3].y << ") in 1/256 px");
+            CHECK(no_repeats(fb));
+            CHECK(fb.size() == want.size());
+            CHECK(pixel_set(fb) == want);
+        }
+    }
+
+    SECTION("triangle fans around a vertex on a pixel centre") {
+        for (int trial = 0; trial < 40; ++trial) {
+            // Centre on a pixel centre; spokes to a convex ring of 3..12 vertices on a circle (off pixel
+            // centres, so the ring's own vertices are unambiguous); random winding per triangle.
+            const std::int64_t cx = 256 * uniform(50, 78) + 128, cy = 256 * uniform(50, 78) + 128;
+            const int k = int(uniform(3, 12));
+            const double r = 256.0 * double(uniform(20, 45));
+            std::vector<glm::i64vec2> v = {{cx, cy}}, ring;
+            for (int i = 0; i < k; ++i) {
+                const double a = 6.283185307179586 * (i + 0.3 * double(uniform(0, 100)) / 100.0) / k;
+                glm::i64vec2 p{cx + std::int64_t(r * std::cos(a)), cy + std::int64_t(r * std::sin(a))};
+                if (p.x % 256 == 128) ++p.x;
+                v.push_back(p);
+                ring.push_back(p);
+            }
+            std::vector<glm::u32vec3> tris;
+            for (int i = 0; i < k; ++i) {
+                const glm::u32 a = glm::u32(1 + i), b = glm::u32(1 + (i + 1) % k);
+                if (rng() % 2) tris.push_back({0, a, b});
+                else tris.push_back({0, b, a});
+            }
+            const Mesh m = screen_mesh(v, tris, n);
+            std::set<int> want;
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x)
+                    if (polygon_covers(ring, x, y)) want.insert(y * n + x);
+            for (int threads : {1, 2}) {
+                const FragmentBuffer fb = rasterize(m, cam, opts(n, n, threads));
+                INFO("trial " << trial << ", fan of " << k << " around pixel centre (" << cx / 256 << ", " << cy / 256
+                              << "), threads " << threads);
+                CHECK(no_repeats(fb));
+                CHECK(fb.size() == want.size());
+                CHECK(pixel_set(fb) == want);
+                CHECK(pixel_set(fb).count(int(cy / 256) * n + int(cx / 256)) == 1);
+            }
+        }
+    }
+
+    SECTION("jittered triangulated grid with random diagonals and windings") {
+        for (int trial = 0; trial < 6; ++trial) {
+            // Grid over the pixel-aligned rectangle [10, 118] x [14, 110]; interior vertices jittered by whole
+            // and half pixels and random sub-pixels, so many edges run through pixel centres.
+            const int gx = 9, gy = 8;
+            std::vector<glm::i64vec2> v;
+            for (int j = 0; j <= gy; ++j)
+                for (int i = 0; i <= gx; ++i) {
+                    std::int64_t sx = 256 * (10 + 108 * i / gx), sy = 256 * (14 + 96 * j / gy);
+                    if (i > 0 && i < gx && j > 0 && j < gy) {
+                        sx += 128 * uniform(-4, 4) + (rng() % 3 == 0 ? uniform(0, 255) : 0);
+                        sy += 128 * uniform(-4, 4);
+                    }
+                    v.push_back({sx, sy});
+                }
+            std::vector<glm::u32vec3> tris;
+            for (int j = 0; j < gy; ++j)
+                for (int i = 0; i < gx; ++i) {
+                    const glm::u32 a = glm::u32(j * (gx + 1) + i), b = a + 1, c = a + glm::u32(gx + 1), d = c + 1;
+                    glm::u32vec3 t1 = {a, c, b}, t2 = {b, c, d};
+                    if (rng() % 2) t1 = {a, c, d}, t2 = {a, d, b};
+                    if (rng() % 2) std::swap(t1[1], t1[2]);
+                    if (rng() % 2) std::swap(t2[1], t2[2]);
+                    tris.push_back(t1);
+                    tris.push_back(t2);
+                }
+            const Mesh m = screen_mesh(v, tris, n);
+            for (int threads : {1, 3}) {
+                const FragmentBuffer fb = rasterize(m, cam, opts(n, n, threads));
+                INFO("trial " << trial << ", threads " << threads);
+                CHECK(no_repeats(fb));
+                CHECK(fb.size() == 108u * 96u);   // the union is the pixel-aligned rectangle
+            }
+        }
+    }
+}
+
+TEST_CASE("raster: the nearer of two overlapping quads wins whatever the submission order", "[raster]") {
+    const int n = 128;
+    const Camera cam = unit_camera();
+    // Far quad on z = 0 (normal +y as a marker), near quad on z = 0.4 (normal +x); they overlap on screen.
+    const Mesh far = screen_rect(20, 20, 90, 90, n, {0, 1, 0}, 0.0);
+    Mesh near;
+    near.positions = {{-0.2, -0.6, 0.4}, {0.5, -0.6, 0.4}, {0.5, 0.1, 0.4}, {-0.2, 0.1, 0.4}};
+    near.normals.assign(4, glm::dvec3(1, 0, 0));
+    near.triangles = {{0, 1, 2}, {0, 2, 3}};
+    for (bool near_first : {true, false}) {
+        Mesh both;
+        append(both, near_first ? near : far);
+        append(both, near_first ? far : near);
+        const FragmentBuffer fb = rasterize(both, cam, opts(n, n));
+        REQUIRE(no_repeats(fb));
+        std::size_t overlap = 0, wrong = 0, only_far = 0;
+        for (std::size_t i = 0; i < fb.size(); ++i) {
+            const int x = fb.pixel[i] % n, y = fb.pixel[i] / n;
+            const glm::dvec3 d = pixel_ray(cam, n, n, x, y);
+            const glm::dvec3 hit_far = cam.eye + d * (-1.0 / d.z), hit_near = cam.eye + d * (-0.6 / d.z);
+            const glm::dvec3 fl = plane_point(20, 90, n), fh = plane_point(90, 20, n);
+            const double e = 1e-3;   // keep away from the edges
+            const bool in_far = hit_far.x > fl.x + e && hit_far.x < fh.x - e && hit_far.y > fl.y + e && hit_far.y < fh.y - e;
+            const bool in_near = hit_near.x > -0.2 + e && hit_near.x < 0.5 - e && hit_near.y > -0.6 + e && hit_near.y < 0.1 - e;
+            if (in_near) {
+                overlap += in_far ? 1 : 0;
+                wrong += (fb.nx[i] == 1.0f && std::abs(fb.pz[i] - 0.4f) < 1e-6f) ? 0 : 1;
+            } else if (in_far) {
+                ++only_far;
+                wrong += (fb.ny[i] == 1.0f && std::abs(fb.pz[i]) < 1e-6f) ? 0 : 1;
+            }
+        }
+        INFO("near quad submitted first: " << near_first << "; overlap pixels " << overlap << ", far-only " << only_far);
+        CHECK(overlap > 300);
+        CHECK(only_far > 300);
+        CHECK(wrong == 0);
+    }
+}
+
+TEST_CASE("raster: exact depth ties go to the lower triangle index", "[raster]") {
+    const int n = 64;
+    const Camera cam = unit_camera();
+    // The same quad twice, coplanar and coincident, with different normals: the first copy must win everywhere.
+    Mesh m;
+    append(m, screen_rect(10, 10, 50, 50, n, {0, 0, 1}));
+    append(m, screen_rect(10, 10, 50, 50, n, {0, 1, 0}));
+    for (int threads : {1, 2}) {
+        const FragmentBuffer fb = rasterize(m, cam, opts(n, n, threads));
+        INFO("threads " << threads);
+        CHECK(fb.size() == 40u * 40u);
+        CHECK(std::all_of(fb.triangle.begin(), fb.triangle.end(), [](std::int32_t t) { return t < 2; }));
+        CHECK(std::all_of(fb.nz.begin(), fb.nz.end(), [](float z) { return z == 1.0f; }));
+    }
+}
+
+TEST_CASE("raster: perspective-correct interpolation on a slanted quad matches ray-plane intersections", "[raster]") {
+    Camera cam;
+    cam.eye = {0.2, 0.5, 2.5};
+    cam.target = {0, 0, -1};
+    cam.fov_y_deg = 60.0;
+    cam.z_near = 0.1;
+    cam.z_far = 50.0;
+    // A 4 x 4 quad tilted 70 degrees away from the camera, reaching from z = 1.9 back to z = -1.9.
+    const double tilt = glm::radians(70.0);
+    Mesh m;
+    for (auto uv : {glm::dvec2(-2, -2), glm::dvec2(2, -2), glm::dvec2(2, 2), glm::dvec2(-2, 2)})
+        m.positions.push_back({uv.x, uv.y * std::cos(tilt) - 0.5, -uv.y * std::sin(tilt)});
+    const glm::dvec3 normal = glm::normalize(glm::cross(m.positions[1] - m.positions[0], m.positions[2] - m.positions[0]));
+    m.normals = {normal, glm::normalize(normal + glm::dvec3(0.3, 0, 0)), normal, glm::normalize(normal - glm::dvec3(0, 0.3, 0))};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    const int w = 192, h = 144;
+    const FragmentBuffer fb = rasterize(m, cam, opts(w, h));
+    REQUIRE(fb.size() > 5000);
+    const glm::dmat4 vp = cam.projection(double(w) / h) * cam.view();
+    const glm::dvec3 fwd = glm::normalize(cam.target - cam.eye);
+    double worst = 0.0, worst_affine = 0.0, worst_depth = 0.0, worst_bary = 0.0, worst_normal_len = 0.0;
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+        const int x = fb.pixel[i] % w, y = fb.pixel[i] / w;
+        const glm::dvec3 d = pixel_ray(cam, w, h, x, y);
+        const double t = glm::dot(m.positions[0] - cam.eye, normal) / glm::dot(d, normal);
+        const glm::dvec3 hit = cam.eye + t * d;
+        const glm::dvec3 got(fb.px[i], fb.py[i], fb.pz[i]);
+        worst = std::max(worst, glm::length(got - hit) / glm::length(hit - cam.eye));
+        worst_depth = std::max(worst_depth, std::abs(fb.depth[i] - glm::dot(hit - cam.eye, fwd)) / glm::dot(hit - cam.eye, fwd));
+        // The barycentrics give the same point from the mesh triangle's vertices.
+        const glm::u32vec3 tri = m.triangles[std::size_t(fb.triangle[i])];
+        const glm::dvec3 from_bary = (1.0 - fb.b1[i] - fb.b2[i]) * m.positions[tri[0]] + double(fb.b1[i]) * m.positions[tri[1]] +
+                                     double(fb.b2[i]) * m.positions[tri[2]];
+        worst_bary = std::max(worst_bary, glm::length(from_bary - hit));
+        worst_normal_len = std::max(worst_normal_len, std::abs(std::sqrt(double(fb.nx[i]) * fb.nx[i] + double(fb.ny[i]) * fb.ny[i] +
+                                                                         double(fb.nz[i]) * fb.nz[i]) - 1.0));
+        // What affine (screen-space) interpolation would have given, to show this test can tell.
+        glm::dvec2 s[3];
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec4 c = vp * glm::dvec4(m.positions[tri[k]], 1.0);
+            s[k] = {(c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h};
+        }
+        auto e = [](glm::dvec2 a, glm::dvec2 b, glm::dvec2 p) { return (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x); };
+        const glm::dvec2 p(x + 0.5, y + 0.5);
+        const double area = e(s[0], s[1], s[2]);
+        const glm::dvec3 affine = (e(s[1], s[2], p) * m.positions[tri[0]] + e(s[2], s[0], p) * m.positions[tri[1]] +
+                                   e(s[0], s[1], p) * m.positions[tri[2]]) / area;
+        worst_affine = std::max(worst_affine, glm::length(affine - hit) / glm::length(hit - cam.eye));
+    }
+    INFO("worst relative position error " << worst << " (affine interpolation would give " << worst_affine
+         << "), depth " << worst_depth << ", barycentric reconstruction " << worst_bary << ", |n| - 1 " << worst_normal_len);
+    CHECK(worst < 1e-4);
+    CHECK(worst_depth < 1e-4);
+    CHECK(worst_bary < 1e-4);
+    CHECK(worst_normal_len < 1e-6);
+    CHECK(worst_affine > 1e-2);
+}
+
+TEST_CASE("raster: near-plane clipping keeps what is in front, with the analytic coverage", "[raster]") {
+    // A wall x = -0.5 and a floor y = -0.4, both running from behind the camera (z = +6) to far in front
+    // (z = -20); the camera at the origin looks down -z.
+    const int w = 120, h = 90;
+    for (double z_near : {0.1, 1e-4}) {   // the tiny near plane also exercises guard-band clipping
+        Camera cam;
+        cam.eye = {0, 0, 0};
+        cam.target = {0, 0, -1};
+        cam.fov_y_deg = 75.0;
+        cam.z_near = z_near;
+        cam.z_far = 100.0;
+        Mesh m;
+        m.positions = {{-0.5, -1, 6}, {-0.5, -1, -20}, {-0.5, 1, -20}, {-0.5, 1, 6},     // wall, facing +x
+                       {-3, -0.4, 6}, {3, -0.4, 6}, {3, -0.4, -20}, {-3, -0.4, -20}};    // floor, facing +y
+        m.normals = {{1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}};
+        m.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}};
+        RasterStats st;
+        const FragmentBuffer fb = rasterize(m, cam, opts(w, h), &st);
+        INFO(describe(cam));
+        CHECK(st.triangles_in == 4u);
+        CHECK(st.triangles_clipped == 4u);
+        CHECK(st.fragments == fb.size());
+        REQUIRE(no_repeats(fb));
+        for (std::size_t i = 0; i < fb.size(); ++i) {
+            INFO("fragment " << i << " pixel " << fb.pixel[i]);
+            CHECK(std::isfinite(fb.px[i]));
+            CHECK(std::isfinite(fb.py[i]));
+            CHECK(std::isfinite(fb.pz[i]));
+            CHECK(std::isfinite(fb.nx[i]));
+            CHECK(fb.depth[i] >= z_near);
+            CHECK(fb.pz[i] <= 0.0f);   // nothing from behind the camera
+        }
+        // Analytic: a pixel is covered when its centre's ray meets either quad in front of the camera within
+        // [z_near, z_far]. Snapping moves edges by up to 1/512 pixel, so pixels whose coverage changes
+        // within +-0.01 pixel of the centre may go either way.
+        auto hit = [&](double sx, double sy) {
+            const glm::dvec3 d = screen_ray(cam, w, h, sx, sy);
+            auto in_range = [&](const glm::dvec3& p) { return -p.z >= z_near && -p.z <= cam.z_far; };
+            if (d.x < 0) {
+                const glm::dvec3 p = (-0.5 / d.x) * d;
+                if (std::abs(p.y) < 1 && p.z > -20 && p.z < 6 && in_range(p)) return true;
+            }
+            if (d.y < 0) {
+                const glm::dvec3 p = (-0.4 / d.y) * d;
+                if (std::abs(p.x) < 3 && p.z > -20 && p.z < 6 && in_range(p)) return true;
+            }
+            return false;
+        };
+        const std::set<int> covered = pixel_set(fb);
+        std::size_t sure_in = 0, unsure = 0, missing = 0, extra = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                int hits = 0;
+                for (auto o : {glm::dvec2(0, 0), glm::dvec2(0.01, 0), glm::dvec2(-0.01, 0), glm::dvec2(0, 0.01), glm::dvec2(0, -0.01)})
+                    hits += hit(x + 0.5 + o.x, y + 0.5 + o.y) ? 1 : 0;
+                const bool got = covered.count(y * w + x) > 0;
+                sure_in += hits == 5 ? 1 : 0;
+                unsure += hits > 0 && hits < 5 ? 1 : 0;
+                missing += hits == 5 && !got ? 1 : 0;
+                extra += hits == 0 && got ? 1 : 0;
+            }
+        INFO("fragments " << fb.size() << ", surely covered " << sure_in << ", unsure " << unsure << ", missing " << missing
+                           << ", extra " << extra);
+        CHECK(sure_in > std::size_t(w * h / 4));
+        CHECK(unsure < sure_in / 50);
+        CHECK(missing == 0);
+        CHECK(extra == 0);
+    }
+}
+
+TEST_CASE("raster: results are bit-identical for 1, 2 and 3 threads", "[raster]") {
+    const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
+    Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
+    // Close enough that the near plane cuts the bunny, so clipped triangles are part of the comparison.
+    cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
+    cam.z_near = 0.95 * glm::length(cam.eye - cam.target);
+    RasterOptions o = opts(256, 256, 1);
+    o.flip_normals_to_viewer = true;
+    RasterStats st1;
+    const FragmentBuffer a = rasterize(bunny, cam, o, &st1);
+    REQUIRE(a.size() > 10000);
+    CHECK(st1.triangles_clipped > 0);
+    CHECK(std::is_sorted(a.pixel.begin(), a.pixel.end()));
+    CHECK(no_repeats(a));
+    for (int t : {2, 3}) {
+        o.threads = t;
+        RasterStats st;
+        const FragmentBuffer b = rasterize(bunny, cam, o, &st);
+        INFO("threads " << t << " vs 1, " << a.size() << " fragments with 1 thread, " << b.size() << " with " << t);
+        CHECK(b.width == a.width);
+        CHECK(b.height == a.height);
+        CHECK(a.pixel == b.pixel);
+        CHECK(a.px == b.px);
+        CHECK(a.py == b.py);
+        CHECK(a.pz == b.pz);
+        CHECK(a.nx == b.nx);
+        CHECK(a.ny == b.ny);
+        CHECK(a.nz == b.nz);
+        CHECK(a.depth == b.depth);
+        CHECK(a.triangle == b.triangle);
+        CHECK(a.b1 == b.b1);
+        CHECK(a.b2 == b.b2);
+        CHECK(st.triangles_culled == st1.triangles_culled);
+        CHECK(st.triangles_clipped == st1.triangles_clipped);
+    }
+}
+
+TEST_CASE("raster: thread counts beyond the rows, tiny images and lopsided scenes give identical results", "[raster]") {
+    // Two overlapping quads in the top-left corner only (most bands get no triangles), on small images.
+    Mesh m;
+    append(m, screen_rect(1, 1, 30, 12, 64, {0, 0, 1}));
+    append(m, screen_rect(5, 3, 20, 25, 64, {0, 1, 0}, 0.2));
+    for (auto size : {glm::ivec2(64, 64), glm::ivec2(64, 5), glm::ivec2(3, 2), glm::ivec2(1, 1)}) {
+        Camera cam = unit_camera();
+        const FragmentBuffer a = rasterize(m, cam, opts(size.x, size.y, 1));
+        for (int t : {2, 4, 9, 100}) {
+            const FragmentBuffer b = rasterize(m, cam, opts(size.x, size.y, t));
+            INFO("image " << size.x << "x" << size.y << ", threads " << t);
+            CHECK(a.pixel == b.pixel);
+            CHECK(a.px == b.px);
+            CHECK(a.nz == b.nz);
+            CHECK(a.depth == b.depth);
+            CHECK(a.triangle == b.triangle);
+            CHECK(a.b1 == b.b1);
+        }
+    }
+}
+
+TEST_CASE("raster: back-face culling on a closed cube keeps exactly the visible surface", "[raster]") {
+    const Mesh box = cube();
+    for (glm::dvec3 dir : {glm::dvec3(1, 0.7, 1.3), glm::dvec3(-0.4, -1, 0.6), glm::dvec3(0.2, 0.1, -1)}) {
+        const Camera cam = Camera::fit(box.bounds(), dir, 40.0, 1.0);
+        RasterOptions o = opts(128, 128);
+        RasterStats st_all, st_front;
+        const FragmentBuffer all = rasterize(box, cam, o, &st_all);
+        o.cull_backfaces = true;
+        const FragmentBuffer front = rasterize(box, cam, o, &st_front);
+        std::size_t back_facing = 0;
+        for (const auto& t : box.triangles)
+            back_facing += glm::dot(box.normals[t[0]], cam.eye - box.positions[t[0]]) < 0.0 ? 1 : 0;
+        INFO(describe(cam) << ", back-facing triangles " << back_facing);
+        REQUIRE(front.size() > 1000);
+        CHECK(back_facing >= 4u);
+        CHECK(st_all.triangles_culled == 0u);
+        CHECK(st_front.triangles_culled == back_facing);
+        CHECK(front.size() == all.size());
+        CHECK(front.pixel == all.pixel);
+        CHECK(no_repeats(front));
+        std::size_t facing_away = 0;
+        for (std::size_t i = 0; i < front.size(); ++i) {
+            const glm::dvec3 p{front.px[i], front.py[i], front.pz[i]}, nrm{front.nx[i], front.ny[i], front.nz[i]};
+            facing_away += glm::dot(nrm, cam.eye - p) < 0.0 ? 1 : 0;
+        }
+        CHECK(facing_away == 0u);
+    }
+}
+
+TEST_CASE("raster: normals are the mesh's unless flip_normals_to_viewer is set", "[raster]") {
+    const int n = 64;
+    const Mesh back = screen_rect(8, 8, 56, 56, n, {0, 0, -1});   // normals pointing away from the camera
+    RasterOptions o = opts(n, n);
+    const FragmentBuffer kept = rasterize(back, unit_camera(), o);
+    REQUIRE(kept.size() == 48u * 48u);
+    CHECK(std::all_of(kept.nz.begin(), kept.nz.end(), [](float z) { return z == -1.0f; }));
+    o.flip_normals_to_viewer = true;
+    const FragmentBuffer flipped = rasterize(back, unit_camera(), o);
+    REQUIRE(flipped.size() == 48u * 48u);
+    CHECK(std::all_of(flipped.nz.begin(), flipped.nz.end(), [](float z) { return z == 1.0f; }));
+    // Culling uses the winding, not the normals: this quad is wound to face the camera.
+    o.cull_backfaces = true;
+    CHECK(rasterize(back, unit_camera(), o).size() == 48u * 48u);
+}
+
+TEST_CASE("raster: Camera::fit frames the whole bounds for any direction and aspect", "[raster]") {
+    Bounds b;
+    b.lo = {-1.5, 0.2, -0.3};
+    b.hi = {2.5, 1.0, 4.0};
+    for (glm::dvec3 dir : {glm::dvec3(0.4, 0.6, 1.0), glm::dvec3(0, 1, 0), glm::dvec3(0, -3, 0), glm::dvec3(-2, 0.1, -0.5)})
+        for (double aspect : {1.0, 16.0 / 9.0, 0.4})
+            for (double fov : {20.0, 60.0, 120.0}) {
+                const Camera cam = Camera::fit(b, dir, fov, aspect);
+                INFO("direction (" << dir.x << ", " << dir.y << ", " << dir.z << "), aspect " << aspect << ", " << describe(cam));
+                CHECK(cam.fov_y_deg == fov);
+                CHECK(glm::length(glm::normalize(cam.eye - cam.target) - glm::normalize(dir)) < 1e-12);
+                CHECK(glm::length(cam.target - b.centre()) < 1e-12);
+                CHECK(cam.z_near > 0.0);
+                CHECK(cam.z_far > cam.z_near);
+                CHECK(glm::length(glm::cross(cam.target - cam.eye, cam.up)) > 1e-3);
+                const glm::dmat4 vp = cam.projection(aspect) * cam.view();
+                for (int k = 0; k < 8; ++k) {
+                    const glm::dvec3 corner{k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z};
+                    const glm::dvec4 c = vp * glm::dvec4(corner, 1.0);
+                    INFO("corner " << k);
+                    CHECK(c.w > 0);
+                    CHECK(std::abs(c.x / c.w) < 1.0);
+                    CHECK(std::abs(c.y / c.w) < 1.0);
+                    CHECK(std::abs(c.z / c.w) < 1.0);
+                }
+            }
+    // And the rasterised bounds stay off the image border.
+    Mesh m;
+    for (int k = 0; k < 8; ++k) {
+        m.positions.push_back({k & 1 ? b.hi.x : b.lo.x, k & 2 ? b.hi.y : b.lo.y, k & 4 ? b.hi.z : b.lo.z});
+        m.normals.push_back({0, 0, 1});
+    }
+    m.triangles = {{0, 3, 1}, {0, 2, 3}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    const FragmentBuffer fb = rasterize(m, Camera::fit(b, {1, 1, 1}, 45.0, 2.0), opts(200, 100));
+    REQUIRE(!fb.empty());
+    for (std::int32_t p : fb.pixel) {
+        const int x = p % 200, y = p / 200;
+        CHECK((x > 0 && x < 199 && y > 0 && y < 99));
+    }
+}
+
+TEST_CASE("raster: bad input is one clear error naming the value and the allowed range", "[raster]") {
+    const Mesh q = screen_rect(8, 8, 56, 56, 64);
+    const Camera good = unit_camera();
+    auto with = [&](auto change) {
+        Camera c = good;
+        RasterOptions o = opts(64, 64);
+        Mesh m = q;
+        change(c, o, m);
+        return [c, o, m] { rasterize(m, c, o); };
+    };
+    using Catch::Contains;
+    CHECK_THROWS_AS(with([](Camera&, RasterOptions& o, Mesh&) { o.width = 0; })(), Error);
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions& o, Mesh&) { o.width = 0; })(), Contains("image size 0x64") && Contains("[1, 16384]"));
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions& o, Mesh&) { o.height = 16385; })(), Contains("64x16385") && Contains("[1, 16384]"));
+    CHECK_THROWS_AS(with([](Camera& c, RasterOptions&, Mesh&) { c.fov_y_deg = 0.0; })(), Error);
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.fov_y_deg = 0.0; })(), Contains("field of view 0") && Contains("(0, 180)"));
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.fov_y_deg = 180.0; })(), Contains("field of view 180"));
+    CHECK_THROWS_AS(with([](Camera& c, RasterOptions&, Mesh&) { c.target = c.eye; })(), Error);
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.target = c.eye; })(), Contains("same point"));
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.z_near = 0.0; })(), Contains("z_near 0") && Contains("> 0"));
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.z_far = 0.005; })(), Contains("z_far 0.005") && Contains("z_near"));
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.eye.y = std::nan(""); })(), Contains("eye") && Contains("finite"));
+    CHECK_THROWS_WITH(with([](Camera& c, RasterOptions&, Mesh&) { c.up = {0, 0, 2}; })(), Contains("parallel"));
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions& o, Mesh&) { o.threads = -1; })(), Contains("threads -1"));
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions&, Mesh& m) { m.triangles[1][2] = 4; })(), Contains("triangle 1") && Contains("vertex 4"));
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions&, Mesh& m) { m.normals.pop_back(); })(), Contains("3 normals for 4 vertices"));
+    CHECK_THROWS_WITH(with([](Camera&, RasterOptions&, Mesh& m) { m.positions[2].x = INFINITY; })(), Contains("vertex 2"));
+    // Valid extremes are accepted.
+    CHECK_NOTHROW(with([](Camera&, RasterOptions& o, Mesh&) { o.width = 1; o.height = 1; })());
+    CHECK_NOTHROW(with([](Camera&, RasterOptions& o, Mesh& m) { o.threads = 64; m.triangles.clear(); })());
+
+    Bounds b;
+    b.hi = {1, 1, 1};
+    CHECK_THROWS_WITH(Camera::fit(b, {0, 0, 1}, 0.0, 1.0), Contains("field of view 0") && Contains("(0, 180)"));
+    CHECK_THROWS_WITH(Camera::fit(b, {0, 0, 1}, 40.0, 0.0), Contains("aspect ratio 0"));
+    CHECK_THROWS_WITH(Camera::fit(b, {0, 0, 0}, 40.0, 1.0), Contains("view direction"));
+}
+
+TEST_CASE("raster: stats and an empty or off-screen mesh", "[raster]") {
+    Mesh m = screen_rect(8, 8, 56, 56, 64);
+    Mesh behind;
+    behind.positions = {{-1, -1, 3}, {1, -1, 3}, {0, 1, 3}};   // behind the camera at z = 1
+    behind.normals.assign(3, glm::dvec3(0, 0, 1));
+    behind.triangles = {{0, 1, 2}};
+    append(m, behind);
+    RasterStats st;
+    const FragmentBuffer fb = rasterize(m, unit_camera(), opts(64, 64), &st);
+    CHECK(st.triangles_in == 3u);
+    CHECK(st.triangles_culled == 1u);
+    CHECK(st.triangles_clipped == 0u);
+    CHECK(st.fragments == 48u * 48u);
+    CHECK(fb.size() == 48u * 48u);
+    CHECK(fb.triangle.size() == fb.size());
+    CHECK(fb.b1.size() == fb.size());
+    CHECK(fb.b2.size() == fb.size());
+
+    const FragmentBuffer none = rasterize(behind, unit_camera(), opts(64, 64), &st);
+    CHECK(none.empty());
+    CHECK(none.width == 64);
+    CHECK(none.height == 64);
+    CHECK(st.fragments == 0u);
+}
