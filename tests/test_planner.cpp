@@ -140,14 +140,7 @@ TEST_CASE("planner: on every bundled scene the chosen plan's measured error is w
         if (e.path().extension() != ".json") continue;
         const Scene s = load_scene(e.path().string());
         const SceneGeometry geo = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
-        PlanInput in;
-        in.camera = geo.camera;
-        in.width = s.width;
-        in.height = s.height;
-        for (std::size_t i = 0; i < geo.meshes.size(); ++i)
-            in.items.push_back(PlanItem{geo.meshes[i], s.meshes[i].material, s.meshes[i].cull_backfaces, -1, glm::dmat4(1.0)});
-        in.lights = s.lights;
-        in.ambient = s.ambient;
+        const PlanInput in = plan_input_for(s, geo);
         PlanOptions o;
         o.tolerance = 1.0;
         o.verify_pixels = 128 * 128;

@@ -32,14 +32,7 @@ void add_plan_command(CLI::App& app) {
     cmd->callback([a] {
         const Scene s = load_scene(a->scene);
         const SceneGeometry geo = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
-        PlanInput in;
-        in.camera = geo.camera;
-        in.width = s.width;
-        in.height = s.height;
-        for (std::size_t i = 0; i < geo.meshes.size(); ++i)
-            in.items.push_back(PlanItem{geo.meshes[i], s.meshes[i].material, s.meshes[i].cull_backfaces, -1, glm::dmat4(1.0)});
-        in.lights = s.lights;
-        in.ambient = s.ambient;
+        const PlanInput in = plan_input_for(s, geo);
         PlanOptions o;
         o.tolerance = a->tolerance;
         if (a->metric == "relative") o.metric = PlanMetric::Relative;

@@ -230,14 +230,7 @@ Prepared Runner::prepare(const BatchJob& job) {
         if (opt_.tolerance > 0.0) {
             // Plan on this job's own geometry: per-pixel candidates only (fragments of several meshes are
             // merged here, so per-vertex interpolation is not available on this path).
-            PlanInput pin;
-            pin.camera = cam;
-            pin.width = s.width;
-            pin.height = s.height;
-            for (std::size_t i = 0; i < loaded.size(); ++i)
-                pin.items.push_back(PlanItem{loaded[i], s.meshes[i].material, s.meshes[i].cull_backfaces, -1, glm::dmat4(1.0)});
-            pin.lights = s.lights;
-            pin.ambient = s.ambient;
+            const PlanInput pin = plan_input_for(s, geo);
             PlanOptions po;
             po.tolerance = opt_.tolerance;
             po.metric = opt_.tolerance_relative ? PlanMetric::Relative : PlanMetric::DeltaE2000;

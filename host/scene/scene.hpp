@@ -86,6 +86,11 @@ struct SceneGeometry {
 };
 SceneGeometry load_scene_geometry(const Scene& s, const std::function<Mesh(const std::string&)>& loader);
 
+// The planner's view of a scene: its world meshes, materials, camera, size, lights and ambient.
+// (Declared here, defined in host/plan/scene_plan.cpp, so scene parsing does not depend on the planner.)
+struct PlanInput;
+PlanInput plan_input_for(const Scene& s, const SceneGeometry& geometry);
+
 // The camera of a scene over the given bounds (framed on them, or placed as the scene says).
 Camera scene_camera(const Scene& s, const Bounds& b);
 
