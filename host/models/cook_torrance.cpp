@@ -1,4 +1,6 @@
-// Cook-Torrance family registration: parameters and the host-computed constants (kernels/models/cook_torrance.cl).
+// The Cook-Torrance family (kernels/models/cook_torrance.cl, docs/models/cook_torrance.md): a Lambert base plus
+// the 1982 microfacet specular term, with the Beckmann or GGX distribution and Schlick's or the exact dielectric
+// Fresnel term. Parameter-only constants (1/m^2, the dielectric's index) are packed here, once per material.
 #include <cmath>
 
 #include "models/catalogue.hpp"
@@ -7,10 +9,15 @@ namespace shadelab {
 
 void register_cook_torrance_family(std::vector<ModelInfo>& out) {
     const std::vector<ParamSpec> params = {
+        // 0.02: sharper lobes are near-mirrors (peak D = 1/(pi m^2) = 796 here), and the float error near the
+        // peak grows as 1/m (the exponent's slope, docs). 1: rougher than that is no longer a highlight.
         {"m", 0.3, 0.02, 1.0, "roughness: RMS microfacet slope (Beckmann m; GGX alpha)"},
-        {"f0", 0.04, 0.0, 0.99, "Fresnel reflectance at normal incidence (0.04: glass/plastic)"},
-        {"kd", 1.0, 0.0, 1.0, "weight of the Lambert diffuse term (albedo)"},
-        {"ks", 1.0, 0.0, 1.0, "weight of the specular term (specular colour)"},
+        {"f0", 0.04, 0.0, 1.0, "Fresnel reflectance at normal incidence (0.04: glass/plastic; 1: perfect mirror)"},
+        // kd = 1 by default so the model is a complete plastic-like material (diffuse base + highlight); the
+        // paper weights the two with d + s = 1, which ks = 1 - kd reproduces. kd = 0 isolates the lobe.
+        {"kd", 1.0, 0.0, 1.0, "weight of the Lambert diffuse part (times the albedo)"},
+        {"ks", 1.0, 0.0, 1.0,
+         "weight of the specular part (times the specular colour); pi/4 = 0.785 gives today's 4 NoL NoV denominator"},
     };
     auto pack = [](const std::vector<double>& p, float* c) {
         const double m = p[0], f0 = p[1];
@@ -20,8 +27,13 @@ void register_cook_torrance_family(std::vector<ModelInfo>& out) {
         c[3] = float(p[3]);
         c[4] = float(1.0 / (m * m));
         c[5] = float(1.0 / (M_PI * m * m));
+        c[6] = float(m * m);
+        // The dielectric with normal-incidence reflectance f0 = ((eta - 1) / (eta + 1))^2 has
+        // eta = (1 + sqrt f0) / (1 - sqrt f0); the kernel takes 1/eta, which is 0 (not infinite) at f0 = 1.
         const double s = std::sqrt(f0);
-        c[6] = float((1.0 + s) / (1.0 - s));   // the dielectric's index from f0
+        const double inv_eta = (1.0 - s) / (1.0 + s);
+        c[7] = float(inv_eta);
+        c[8] = float(1.0 - inv_eta * inv_eta);
     };
     auto add = [&](const char* name, const char* summary, const char* eval, const char* source) {
         ModelInfo m;
@@ -33,17 +45,22 @@ void register_cook_torrance_family(std::vector<ModelInfo>& out) {
         m.eval = eval;
         m.params = params;
         m.pack = pack;
-        m.reciprocal = true;            // D, G symmetric in L and V; F depends on VoH = LoH
-        m.energy_conserving = false;    // kd albedo + the specular lobe can exceed 1; V-groove G does not conserve
+        // D and G are symmetric in L and V, and F depends on VoH = LoH only, so f_r(L, V) = f_r(V, L).
+        m.reciprocal = true;
+        // Not at every parameter value: the 1982 pi (not 4) in the denominator lets the lobe reflect up to 4/pi
+        // of the light at F = 1, and kd albedo is added on top of it (docs: white furnace table).
+        m.energy_conserving = false;
         out.push_back(m);
     };
-    add("cook_torrance", "Cook-Torrance: kd albedo NoL + ks specular F_Schlick D_Beckmann G_VGroove / NoV",
-        "cook_torrance_eval", "Cook & Torrance (1982) ACM ToG 1(1); Beckmann (1963); Schlick (1994); seed 004");
+    add("cook_torrance", "Cook-Torrance 1982: kd albedo NoL + ks specular F_Schlick D_Beckmann G_VGroove / NoV",
+        "cook_torrance_eval",
+        "Cook & Torrance (1982) ACM ToG 1(1); Beckmann (1963); Schlick (1994); Blinn (1977); seed 004");
     add("cook_torrance_ggx", "Cook-Torrance with the GGX (Trowbridge-Reitz) distribution in place of Beckmann",
         "cook_torrance_ggx_eval", "Walter et al. (2007) EGSR; Cook & Torrance (1982)");
-    add("cook_torrance_exact_fresnel", "Cook-Torrance with the exact dielectric Fresnel term (eta from f0)",
+    add("cook_torrance_exact_fresnel", "Cook-Torrance with the exact dielectric Fresnel term (eta from f0) for Schlick",
         "cook_torrance_exact_fresnel_eval", "Cook & Torrance (1982), Fresnel equations for unpolarised light");
-    add("cook_torrance_seed004", "seed 004's Schlick read literally: (1 - theta)^5 with theta = acos(VoH) in radians",
+    add("cook_torrance_seed004",
+        "seed 004's Schlick read literally: (1 - theta)^5 with theta = acos(VoH) in radians (F = 1 at normal incidence)",
         "cook_torrance_seed004_eval", "seed 004 (lecture slides), as written");
 }
 

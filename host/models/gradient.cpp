@@ -1,4 +1,5 @@
 // Gradient blend registration (kernels/models/gradient.cl): two child materials, a world-space cosine wave.
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -20,11 +21,20 @@ void register_gradient_family(std::vector<ModelInfo>& out) {
                 {"gz", 0.0, -1.0, 1.0, "gradient direction z"},
                 {"period", 1.0, 1e-4, 1e4, "world-space length of one wave"},
                 {"phase", 0.0, -2.0 * M_PI, 2.0 * M_PI, "phase of the wave, radians (0: B where P.g = 0)"}};
+    // resolve_material checks each component's range only; the direction as a whole is checked here, where it
+    // is normalised (pack_material runs before every launch, so no kernel ever sees it).
     m.pack = [](const std::vector<double>& p, float* c) {
-        const double len = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        if (!(len > 0.0))
-            throw Error("model 'gradient': the gradient direction (gx, gy, gz) is zero: give a direction");
-        for (int k = 0; k < 3; ++k) c[k] = float(p[std::size_t(k)] / len);
+        // Scaled by the largest component first, so a tiny direction (1e-200, 0, 0) normalises instead of
+        // squaring to 0.
+        const double big = std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+        if (!(big > 0.0))
+            throw Error("model 'gradient': the gradient direction (gx, gy, gz) is (0, 0, 0): give a direction, "
+                        "e.g. gx = 1");
+        const double x = p[0] / big, y = p[1] / big, z = p[2] / big;
+        const double len = std::sqrt(x * x + y * y + z * z);
+        c[0] = float(x / len);
+        c[1] = float(y / len);
+        c[2] = float(z / len);
         c[3] = float(2.0 * M_PI / p[3]);
         c[4] = float(p[4]);
     };
