@@ -28,12 +28,43 @@ inline glm::dvec3 random_unit(std::mt19937_64& g) {
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
+// A random unit vector well above the plane z = 0: a uniform one with |z| raised by 0.05, renormalised.
+inline glm::dvec3 random_above(std::mt19937_64& g) {
+    glm::dvec3 v = random_unit(g);
+    v.z = std::abs(v.z) + 0.05;
+    return glm::normalize(v);
+}
+
+// A unit vector perpendicular to unit v.
+inline glm::dvec3 any_perpendicular(const glm::dvec3& v) {
+    return glm::normalize(glm::cross(v, std::abs(v.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+}
+
 // A unit vector at polar angle theta from n, random azimuth.
 inline glm::dvec3 at_angle(const glm::dvec3& n, double theta, std::mt19937_64& g) {
-    glm::dvec3 t = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    glm::dvec3 t = any_perpendicular(n);
     glm::dvec3 b = glm::cross(n, t);
     const double phi = 2.0 * M_PI * unit_double(g);
     return glm::normalize(std::cos(theta) * n + std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b));
+}
+
+// Appends one triple and its point to a sweep: rounded to float as the kernel reads them, and the same
+// float values in double for the reference.
+inline void add_triple(DirectionSweep& s, const glm::dvec3& n, const glm::dvec3& l, const glm::dvec3& v,
+                       const glm::dvec3& p, const char* kind) {
+    const glm::dvec3 vs[4] = {n, l, v, p};
+    std::vector<float>* fs[4] = {&s.N, &s.L, &s.V, &s.P};
+    std::vector<glm::dvec3>* ds[4] = {&s.dN, &s.dL, &s.dV, &s.dP};
+    for (int k = 0; k < 4; ++k) {
+        glm::dvec3 r;
+        for (int c = 0; c < 3; ++c) {
+            const float f = float(vs[k][c]);
+            fs[k]->push_back(f);
+            r[c] = double(f);
+        }
+        ds[k]->push_back(r);
+    }
+    s.kind.push_back(kind);
 }
 
 // About `count` triples: 60% uniform random over the sphere (so N.L < 0 and N.V < 0 occur), the rest
@@ -44,19 +75,7 @@ inline DirectionSweep make_sweep(std::size_t count = 120000, std::uint64_t seed 
     DirectionSweep s;
     auto push = [&](glm::dvec3 n, glm::dvec3 l, glm::dvec3 v, const char* kind) {
         const glm::dvec3 p{20.0 * unit_double(g) - 10.0, 20.0 * unit_double(g) - 10.0, 20.0 * unit_double(g) - 10.0};
-        const glm::dvec3 vs[4] = {n, l, v, p};
-        std::vector<float>* fs[4] = {&s.N, &s.L, &s.V, &s.P};
-        std::vector<glm::dvec3>* ds[4] = {&s.dN, &s.dL, &s.dV, &s.dP};
-        for (int k = 0; k < 4; ++k) {
-            glm::dvec3 r;
-            for (int c = 0; c < 3; ++c) {
-                const float f = float(vs[k][c]);
-                fs[k]->push_back(f);
-                r[c] = double(f);
-            }
-            ds[k]->push_back(r);
-        }
-        s.kind.push_back(kind);
+        add_triple(s, n, l, v, p, kind);
     };
     const double grazing[] = {0.0, 1e-6, -1e-6, 1e-5, -1e-5, 1e-4, -1e-4};
     const std::size_t random_count = count * 6 / 10;

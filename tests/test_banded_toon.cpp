@@ -19,33 +19,16 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
 
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
-const test::DirectionSweep& sweep() {
-    static const test::DirectionSweep s = test::make_sweep(120000);
-    return s;
-}
-
-const glm::dvec3 kAlbedo{0.9, 0.5, 0.25};
-const glm::dvec3 kSpecular{1.0, 0.8, 0.6};
-
-Material make(const std::string& model, std::map<std::string, double> params = {}, glm::dvec3 albedo = kAlbedo,
-              glm::dvec3 specular = kSpecular) {
-    Material m;
-    m.model = model;
-    m.params = std::move(params);
-    m.albedo = albedo;
-    m.specular = specular;
-    return resolve_material(m);
+// The family's materials: the shared test colours, the specular one included.
+Material make(const std::string& model, std::map<std::string, double> params = {}, glm::dvec3 albedo = test::kAlbedo,
+              glm::dvec3 specular = test::kSpecular) {
+    return test::material(model, std::move(params), albedo, specular);
 }
 
 std::string describe(const Material& m, bool all = false) {
@@ -82,19 +65,7 @@ test::DirectionSweep edge_sweep(const std::vector<double>& nol_edges, const std:
     std::mt19937_64 g(2024);
     test::DirectionSweep s;
     auto push = [&](const glm::dvec3& n, const glm::dvec3& l, const glm::dvec3& v, const char* kind) {
-        const glm::dvec3 vs[4] = {n, l, v, glm::dvec3(0.0)};
-        std::vector<float>* fs[4] = {&s.N, &s.L, &s.V, &s.P};
-        std::vector<glm::dvec3>* ds[4] = {&s.dN, &s.dL, &s.dV, &s.dP};
-        for (int k = 0; k < 4; ++k) {
-            glm::dvec3 r;
-            for (int c = 0; c < 3; ++c) {
-                const float f = float(vs[k][c]);
-                fs[k]->push_back(f);
-                r[c] = double(f);
-            }
-            ds[k]->push_back(r);
-        }
-        s.kind.push_back(kind);
+        test::add_triple(s, n, l, v, glm::dvec3(0.0), kind);
     };
     for (double e : nol_edges)
         for (std::size_t k = 0; k < per_edge; ++k) {
@@ -117,8 +88,8 @@ test::DirectionSweep edge_sweep(const std::vector<double>& nol_edges, const std:
 
 TEST_CASE("banded kernels match the reference - mismatches only within a few ulps of a band edge",
           "[banded_toon][kernel]") {
-    Shader shader(runtime());
-    std::cout << "banded kernels vs double reference, " << sweep().size() << " sweep triples + 9000 placed on band "
+    Shader shader(test::runtime());
+    std::cout << "banded kernels vs double reference, " << test::sweep().size() << " sweep triples + 9000 placed on band "
               << "edges (edge = within " << kDeltaNoL << " of a band edge in NoL):\n";
     std::vector<Material> grid;
     for (double s : {1.0, 2.0, 3.0, 4.0, 7.0, 100.0, 255.0, 256.0}) grid.push_back(make("banded", {{"steps", s}}));
@@ -134,8 +105,8 @@ TEST_CASE("banded kernels match the reference - mismatches only within a few ulp
         const test::DirectionSweep on_edges = edge_sweep(edges, {}, 9000 / edges.size());
         std::size_t mismatches = 0, bad = 0, non_finite = 0, worst = 0;
         double max_dist = 0.0, max_err_off_edge = 0.0;
-        const test::DirectionSweep* worst_sweep = &sweep();
-        for (const test::DirectionSweep* swp : {&sweep(), &on_edges}) {
+        const test::DirectionSweep* worst_sweep = &test::sweep();
+        for (const test::DirectionSweep* swp : {&test::sweep(), &on_edges}) {
             const test::DirectionSweep& sw = *swp;
             const auto out = shader.eval_directions(m, sw.N, sw.L, sw.V, sw.P);
             for (std::size_t i = 0; i < sw.size(); ++i) {
@@ -167,7 +138,7 @@ TEST_CASE("banded kernels match the reference - mismatches only within a few ulp
 }
 
 TEST_CASE("banded rule by hand: levels, edge values, and the seed's formula as a step size", "[banded_toon][kernel]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const glm::dvec3 white{1, 1, 1};
     // NoL values exactly representable, with the band rule worked by hand for steps = 4:
     // floor(4 NoL + 1/2) / 4.
@@ -225,7 +196,7 @@ TEST_CASE("banded rule by hand: levels, edge values, and the seed's formula as a
     CHECK(levels(make("banded_seed001", {{"light_steps", 1}}, white)).size() == 257);
 
     // The seed's formula with t = 256 / s is banded with steps = s, bit for bit, over the whole sweep.
-    const auto& sw = sweep();
+    const auto& sw = test::sweep();
     for (int s = 1; s <= 256; s *= 2) {
         const auto a = shader.eval_directions(make("banded", {{"steps", double(s)}}), sw.N, sw.L, sw.V, sw.P);
         const auto b = shader.eval_directions(make("banded_seed001", {{"light_steps", 256.0 / s}}), sw.N, sw.L, sw.V, sw.P);
@@ -289,7 +260,7 @@ TEST_CASE("banded directional albedo: exactly Lambert's for every steps - the se
 
 TEST_CASE("toon kernel matches the reference - hard-band mismatches only within a few ulps of an edge",
           "[banded_toon][kernel]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::vector<Material> grid = {make("toon"), make("toon", {{"width", 0.0}}), make("toon", {{"width", 0.5}})};
     for (double n : {0.0, 1.0, 10000.0})
         for (double w : {0.0, 0.02}) grid.push_back(make("toon", {{"n", n}, {"width", w}}));
@@ -300,7 +271,7 @@ TEST_CASE("toon kernel matches the reference - hard-band mismatches only within 
                                                      {"spec_l0", 1},    {"width", 0}};
     grid.push_back(make("toon", ends_low));
     grid.push_back(make("toon", ends_high));
-    std::cout << "toon kernel vs double reference, " << sweep().size() << " sweep triples + 9000 placed on the edges;"
+    std::cout << "toon kernel vs double reference, " << test::sweep().size() << " sweep triples + 9000 placed on the edges;"
               << " edges: NoL within " << kDeltaNoL
               << " of a diffuse threshold or 0, NoH within " << kDeltaNoH << " of a highlight threshold\n";
     for (const Material& m : grid) {
@@ -323,8 +294,8 @@ TEST_CASE("toon kernel matches the reference - hard-band mismatches only within 
         const test::DirectionSweep on_edges = edge_sweep(nol_edges, noh_edges, 9000 / (nol_edges.size() + noh_edges.size()));
         std::size_t flat = 0, transition = 0, mismatches = 0, bad = 0, non_finite = 0, worst = 0;
         double max_rel_flat = 0.0, max_dist_ulps = 0.0, worst_ratio = 0.0;
-        const test::DirectionSweep* worst_sweep = &sweep();
-        for (const test::DirectionSweep* swp : {&sweep(), &on_edges}) {
+        const test::DirectionSweep* worst_sweep = &test::sweep();
+        for (const test::DirectionSweep* swp : {&test::sweep(), &on_edges}) {
             const test::DirectionSweep& sw = *swp;
             const auto out = shader.eval_directions(m, sw.N, sw.L, sw.V, sw.P);
             for (std::size_t i = 0; i < sw.size(); ++i) {
@@ -393,7 +364,7 @@ TEST_CASE("toon kernel matches the reference - hard-band mismatches only within 
 
 TEST_CASE("toon rule by hand: 4 diffuse and 3 highlight levels, edges, smoothing, ordering, L = -V",
           "[banded_toon][kernel][stability]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const glm::dvec3 white{1, 1, 1}, black{0, 0, 0};
     // Diffuse only (highlight levels 0), representable thresholds 0, 0.25, 0.75 and levels 0.1 .. 1.
     std::map<std::string, double> p = {{"diffuse_t1", 0.0}, {"diffuse_t2", 0.25}, {"diffuse_t3", 0.75},

@@ -21,40 +21,22 @@
 #include "scene/batch.hpp"
 #include "scene/contact.hpp"
 #include "scene/scene.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kScenes = std::string(SHADELAB_SOURCE_DIR) + "/scenes";
-const std::string kMeshes = SHADELAB_MESH_DIR;
-const std::string kData = SHADELAB_TEST_DATA_DIR;
 
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
+// A fresh folder per test case, removed when the test process ends.
+fs::path scratch(const std::string& name) { return test::scratch_dir("batch/" + name); }
 
-// A folder removed when the test process ends.
-struct TempRoot {
-    fs::path path;
-    explicit TempRoot(const std::string& prefix) : path(fs::temp_directory_path() / (prefix + std::to_string(::getpid()))) {
-        fs::remove_all(path);
-    }
-    ~TempRoot() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
-// A fresh folder per test case under one per-process folder.
-fs::path scratch(const std::string& name) {
-    static const TempRoot temp("shadelab_test_batch_");
-    const fs::path& root = temp.path;
-    const fs::path d = root / name;
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
+// The shadelab binary next to the test binary; empty, with a warning, when it was not built.
+fs::path cli_exe() {
+    const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path() / "shadelab";
+    if (fs::exists(exe)) return exe;
+    WARN("no shadelab binary next to the test binary: build the 'shadelab' target to run this test");
+    return {};
 }
 
 std::string write(const fs::path& p, const std::string& text) {
@@ -66,7 +48,7 @@ std::string write(const fs::path& p, const std::string& text) {
 std::string quad_scene(double albedo, const std::string& extra = "") {
     std::ostringstream s;
     s << "{ \"camera\": { \"position\": [0, 0, 3], \"target\": [0, 0, 0], \"fov\": 20 }, \"resolution\": [24, 16], "
-      << "\"meshes\": [ { \"path\": \"" << kData << "/scene_quad.obj\", \"material\": { \"albedo\": [" << albedo << ", "
+      << "\"meshes\": [ { \"path\": \"" << test::kData << "/scene_quad.obj\", \"material\": { \"albedo\": [" << albedo << ", "
       << albedo << ", " << albedo << "] } } ], "
       << "\"lights\": [ { \"type\": \"directional\", \"direction\": [0, 0, 1] } ], "
       << "\"outputs\": { \"png\": \"{name}.png\", \"exr\": \"{name}.exr\" }" << extra << " }";
@@ -101,13 +83,13 @@ TEST_CASE("a batch with broken inputs finishes the others, reports each broken o
         write(dir / "b_missing_mesh.json", "{ \"meshes\": [ { \"path\": \"nowhere.obj\" } ] }"),
         write(dir / "c_bad_json.json", "{ \"meshes\": [ "),
         write(dir / "d_bad_param.json",
-              "{ \"meshes\": [ { \"path\": \"" + kData + "/scene_quad.obj\", \"material\": { \"model\": \"phong\", "
+              "{ \"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\", \"material\": { \"model\": \"phong\", "
               "\"params\": { \"n\": 1e9 } } } ] }"),
-        write(dir / "e_nan_mesh.json", "{ \"meshes\": [ { \"path\": \"" + kData + "/nan.obj\" } ] }"),
+        write(dir / "e_nan_mesh.json", "{ \"meshes\": [ { \"path\": \"" + test::kData + "/nan.obj\" } ] }"),
         (dir / "f_no_such_scene.json").string(),
         write(dir / "g_good.json", quad_scene(0.25)),
     };
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     INFO(log.str());
     REQUIRE(s.jobs.size() == 7);
     CHECK(s.ok == 2);
@@ -162,8 +144,8 @@ TEST_CASE("known answer: a directional light head-on to a Lambert quad gives alb
     const fs::path dir = scratch("known");
     std::ostringstream log;
     BatchOptions o = options_for(dir, log);
-    o.scenes = {kData + "/scene_quad_lambert.json"};
-    const BatchSummary s = run_batch(o, runtime());
+    o.scenes = {test::kData + "/scene_quad_lambert.json"};
+    const BatchSummary s = run_batch(o, test::runtime());
     INFO(log.str());
     REQUIRE(s.ok == 1);
     const Image img = read_image((dir / "out" / "scene_quad_lambert.exr").string());
@@ -203,10 +185,10 @@ TEST_CASE("known answer: a point light above the quad gives albedo * I * h / d^3
     const int W = 32;
     o.scenes = {write(dir / "point.json",
                       "{ \"camera\": { \"position\": [0, 0, 3], \"target\": [0, 0, 0], \"fov\": 20 }, \"resolution\": [32, 32], "
-                      "\"meshes\": [ { \"path\": \"" + kData + "/scene_quad.obj\", \"material\": { \"albedo\": [0.6, 0.6, 0.6] } } ], "
+                      "\"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\", \"material\": { \"albedo\": [0.6, 0.6, 0.6] } } ], "
                       "\"lights\": [ { \"type\": \"point\", \"position\": [0, 0, 1], \"intensity\": 2 } ], "
                       "\"outputs\": { \"exr\": \"point.exr\" } }")};
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     INFO(log.str());
     REQUIRE(s.ok == 1);
     const Image img = read_image((dir / "out" / "point.exr").string());
@@ -228,8 +210,8 @@ TEST_CASE("several meshes: the nearest surface wins whatever the mesh order, eac
     // pixel sees the near quad, a corner pixel the far one, in either order of the mesh list.
     const fs::path dir = scratch("depth");
     auto scene = [&](bool near_first) {
-        const std::string far_q = "{ \"path\": \"" + kData + "/scene_quad.obj\", \"material\": { \"albedo\": [0.2, 0.2, 0.2] } }";
-        const std::string near_q = "{ \"path\": \"" + kData + "/scene_quad.obj\", \"transform\": { \"scale\": 0.25, "
+        const std::string far_q = "{ \"path\": \"" + test::kData + "/scene_quad.obj\", \"material\": { \"albedo\": [0.2, 0.2, 0.2] } }";
+        const std::string near_q = "{ \"path\": \"" + test::kData + "/scene_quad.obj\", \"transform\": { \"scale\": 0.25, "
                                    "\"translate\": [0, 0, 0.5] }, \"material\": { \"model\": \"lambert\", \"albedo\": [0.9, 0.9, 0.9] } }";
         return "{ \"camera\": { \"position\": [0, 0, 3], \"target\": [0, 0, 0], \"fov\": 20 }, \"resolution\": [16, 16], "
                "\"meshes\": [ " + (near_first ? near_q + ", " + far_q : far_q + ", " + near_q) + " ], "
@@ -238,7 +220,7 @@ TEST_CASE("several meshes: the nearest surface wins whatever the mesh order, eac
     std::ostringstream log;
     BatchOptions o = options_for(dir, log);
     o.scenes = {write(dir / "near_first.json", scene(true)), write(dir / "far_first.json", scene(false))};
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     INFO(log.str());
     REQUIRE(s.ok == 2);
     const Image a = read_image((dir / "out" / "near_first.exr").string());
@@ -256,9 +238,9 @@ TEST_CASE("determinism: the same scene renders bit-identically twice", "[batch]"
     const std::string scene = write(dir / "det.json", R"({
         "camera": { "position": [0, 0.8, 3.2], "target": [0, 0, 0], "fov": 40 }, "resolution": [160, 120],
         "meshes": [
-          { "path": ")" + kMeshes + R"(/spot.obj", "transform": { "rotate": [0, 200, 0], "translate": [-0.6, 0, 0] },
+          { "path": ")" + test::kMeshes + R"(/spot.obj", "transform": { "rotate": [0, 200, 0], "translate": [-0.6, 0, 0] },
             "material": { "model": "phong", "albedo": [0.8, 0.5, 0.3] } },
-          { "path": ")" + kMeshes + R"(/teapot.obj", "transform": { "scale": 0.25, "translate": [0.8, -0.4, 0] } }
+          { "path": ")" + test::kMeshes + R"(/teapot.obj", "transform": { "scale": 0.25, "translate": [0.8, -0.4, 0] } }
         ],
         "lights": [ { "type": "directional", "direction": [1, 1, 1] },
                     { "type": "point", "position": [-2, 2, 2], "intensity": 4, "range": 10 },
@@ -266,11 +248,11 @@ TEST_CASE("determinism: the same scene renders bit-identically twice", "[batch]"
         "outputs": { "exr": "det.exr", "normal": "det_normal.exr" } })");
     o.scenes = {scene};
     o.force = true;
-    REQUIRE(run_batch(o, runtime()).ok == 1);
+    REQUIRE(run_batch(o, test::runtime()).ok == 1);
     const fs::path out = dir / "out" / "det.exr";
     const Image first = read_image(out.string());
     o.overlap = false;   // the other scheduling too: it must not change a bit
-    REQUIRE(run_batch(o, runtime()).ok == 1);
+    REQUIRE(run_batch(o, test::runtime()).ok == 1);
     const Image second = read_image(out.string());
     CHECK(first.width == 160);
     CHECK(same_pixels(first, second));
@@ -278,7 +260,7 @@ TEST_CASE("determinism: the same scene renders bit-identically twice", "[batch]"
 
 TEST_CASE("sharding: 1/2 and 2/2 cover the sorted batch exactly once", "[batch]") {
     BatchOptions o;
-    for (const auto& e : fs::directory_iterator(kScenes))
+    for (const auto& e : fs::directory_iterator(test::kScenes))
         if (e.path().extension() == ".json") o.scenes.push_back(e.path().string());
     o.scenes.push_back(o.scenes.front());   // a repeat is one job
     const auto all = plan_all_jobs(o);
@@ -315,7 +297,7 @@ TEST_CASE("sharded runs write each output once and reports per shard", "[batch]"
         o.scenes = scenes;
         o.shard_index = shard;
         o.shard_count = 2;
-        const BatchSummary s = run_batch(o, runtime());
+        const BatchSummary s = run_batch(o, test::runtime());
         INFO(log.str());
         CHECK(s.failed == 0);
         CHECK(s.report_json.find("shard" + std::to_string(shard) + "of2") != std::string::npos);
@@ -333,21 +315,21 @@ TEST_CASE("up-to-date outputs are skipped - a newer scene or --force renders aga
     std::ostringstream log;
     BatchOptions o = options_for(dir, log);
     o.scenes = {write(dir / "q.json", quad_scene(0.5))};
-    CHECK(run_batch(o, runtime()).ok == 1);
-    const BatchSummary again = run_batch(o, runtime());
+    CHECK(run_batch(o, test::runtime()).ok == 1);
+    const BatchSummary again = run_batch(o, test::runtime());
     CHECK(again.skipped == 1);
     CHECK(again.jobs[0].status == JobResult::Status::Skipped);
     o.force = true;
-    CHECK(run_batch(o, runtime()).ok == 1);
+    CHECK(run_batch(o, test::runtime()).ok == 1);
     o.force = false;
     // The scene edited after its outputs: stale.
     fs::last_write_time(o.scenes[0], fs::file_time_type::clock::now() + std::chrono::seconds(5));
-    CHECK(run_batch(o, runtime()).ok == 1);
+    CHECK(run_batch(o, test::runtime()).ok == 1);
     // An output deleted: stale.
     fs::last_write_time(o.scenes[0], fs::file_time_type::clock::now() - std::chrono::seconds(60));
-    CHECK(run_batch(o, runtime()).skipped == 1);
+    CHECK(run_batch(o, test::runtime()).skipped == 1);
     fs::remove(dir / "out" / "q.exr");
-    CHECK(run_batch(o, runtime()).ok == 1);
+    CHECK(run_batch(o, test::runtime()).ok == 1);
 }
 
 TEST_CASE("two jobs writing the same file: the first in the sorted list keeps it, the other fails", "[batch]") {
@@ -356,7 +338,7 @@ TEST_CASE("two jobs writing the same file: the first in the sorted list keeps it
     BatchOptions o = options_for(dir, log);
     o.scenes = {write(dir / "one.json", quad_scene(0.5, ", \"name\": \"same\"")),
                 write(dir / "two.json", quad_scene(0.7, ", \"name\": \"same\""))};
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     REQUIRE(s.jobs.size() == 2);
     CHECK(s.jobs[0].status == JobResult::Status::Ok);
     CHECK(s.jobs[1].status == JobResult::Status::Failed);
@@ -367,16 +349,16 @@ TEST_CASE("two jobs writing the same file: the first in the sorted list keeps it
 TEST_CASE("template mode shades every mesh of a folder with one scene", "[batch]") {
     const fs::path dir = scratch("template");
     fs::create_directories(dir / "meshes");
-    fs::copy_file(kData + "/scene_quad.obj", dir / "meshes" / "quad_a.obj");
-    fs::copy_file(kData + "/tetra.off", dir / "meshes" / "tetra.off");
-    fs::copy_file(kData + "/nan.obj", dir / "meshes" / "broken.obj");
+    fs::copy_file(test::kData + "/scene_quad.obj", dir / "meshes" / "quad_a.obj");
+    fs::copy_file(test::kData + "/tetra.off", dir / "meshes" / "tetra.off");
+    fs::copy_file(test::kData + "/nan.obj", dir / "meshes" / "broken.obj");
     write(dir / "meshes" / "readme.txt", "not a mesh");
     std::ostringstream log;
     BatchOptions o = options_for(dir, log);
     o.mesh_dir = (dir / "meshes").string();
     o.template_scene = write(dir / "t.json", "{ \"resolution\": [20, 20], \"meshes\": [ { \"material\": { \"model\": \"lambert\" } } ], "
                                             "\"outputs\": { \"png\": \"m/{mesh}.png\" } }");
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     INFO(log.str());
     REQUIRE(s.jobs.size() == 3);
     CHECK(s.ok == 2);
@@ -396,7 +378,7 @@ TEST_CASE("one runtime for the whole batch: each model's program is built once",
                                  quad_scene(0.5, ", \"lights\": [ { \"type\": \"directional\", \"direction\": [0, 1, 1] }, "
                                                  "{ \"type\": \"directional\", \"direction\": [1, 0, 1] }, "
                                                  "{ \"type\": \"directional\", \"direction\": [-1, 0, 1] } ]")));
-    const BatchSummary s = run_batch(o, runtime());
+    const BatchSummary s = run_batch(o, test::runtime());
     CHECK(s.ok == 4);
     CHECK(s.programs_built <= 1);   // Lambert with 3 lights: one program (0 if an earlier test built it)
 }
@@ -412,12 +394,12 @@ TEST_CASE("contact sheet: every requested model on a sphere and a mesh, labelled
     std::ostringstream log;
     ContactOptions o;
     o.output = (dir / "sheet.png").string();
-    o.mesh = kMeshes + "/spot.obj";
+    o.mesh = test::kMeshes + "/spot.obj";
     o.cell = 48;
     o.columns = 2;
     o.models = models;
     o.log = &log;
-    const ContactResult r = make_contact_sheet(o, runtime());
+    const ContactResult r = make_contact_sheet(o, test::runtime());
     INFO(log.str());
     CHECK(r.failed.empty());
     const Image img = read_image(r.output);
@@ -450,14 +432,11 @@ TEST_CASE("contact sheet: every requested model on a sphere and a mesh, labelled
 }
 
 TEST_CASE("the CLI: a batch with a broken scene prints one line for it and exits non-zero", "[batch][cli]") {
-    const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path() / "shadelab";
-    if (!fs::exists(exe)) {
-        WARN("no shadelab binary next to the test binary: build the 'shadelab' target to run this test");
-        return;
-    }
+    const fs::path exe = cli_exe();
+    if (exe.empty()) return;
     const fs::path dir = scratch("cli");
     write(dir / "good.json", quad_scene(0.5));
-    write(dir / "bad.json", "{ \"meshes\": [ { \"path\": \"" + kData + "/scene_quad.obj\", \"material\": { \"model\": \"nope\" } } ] }");
+    write(dir / "bad.json", "{ \"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\", \"material\": { \"model\": \"nope\" } } ] }");
     const fs::path err = dir / "stderr.txt";
     const std::string cmd = "'" + exe.string() + "' batch '" + (dir / "bad.json").string() + "' '" +
                             (dir / "good.json").string() + "' --out '" + (dir / "out").string() + "' > /dev/null 2> '" +
@@ -474,18 +453,15 @@ TEST_CASE("the CLI: a batch with a broken scene prints one line for it and exits
 }
 
 TEST_CASE("a batch killed mid-run leaves only complete images", "[batch][cli]") {
-    const fs::path exe = fs::read_symlink("/proc/self/exe").parent_path() / "shadelab";
-    if (!fs::exists(exe)) {
-        WARN("no shadelab binary next to the test binary: build the 'shadelab' target to run this test");
-        return;
-    }
+    const fs::path exe = cli_exe();
+    if (exe.empty()) return;
     // Eight 1024x1024 scenes with PNG + EXR, killed (SIGKILL, no chance to clean up) after 1.5 s: whatever
     // was renamed into place must be a whole image; unfinished ones may only exist as hidden temporaries.
     const fs::path dir = scratch("killed");
     std::vector<std::string> scenes;
     for (int i = 0; i < 8; ++i)
         scenes.push_back(write(dir / ("k" + std::to_string(i) + ".json"),
-                               "{ \"resolution\": [1024, 1024], \"meshes\": [ { \"path\": \"" + kMeshes +
+                               "{ \"resolution\": [1024, 1024], \"meshes\": [ { \"path\": \"" + test::kMeshes +
                                    "/teapot.obj\" } ], \"outputs\": { \"png\": \"{name}.png\", \"exr\": \"{name}.exr\" } }"));
     std::string cmd = "timeout -s KILL 1.5 '" + exe.string() + "' batch";
     for (const auto& s : scenes) cmd += " '" + s + "'";

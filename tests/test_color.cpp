@@ -10,6 +10,7 @@
 #include "cl/runtime.hpp"
 #include "color/color.hpp"
 #include "color/color_kernel.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
@@ -73,7 +74,7 @@ TEST_CASE("Delta E is zero for equal colours, symmetric, and 76 equals the Eucli
 }
 
 TEST_CASE("the device CIEDE2000 matches the published pairs and the host double version", "[color][kernel]") {
-    Runtime rt;
+    Runtime& rt = test::runtime();
     std::ifstream in(SHADELAB_TEST_DATA_DIR "/ciede2000_sharma2005.csv");
     REQUIRE(in);
     std::vector<float> a, b;

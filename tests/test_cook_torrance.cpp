@@ -17,17 +17,12 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 using glm::dvec3;
 
 namespace {
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
 const char* const kModels[] = {"cook_torrance", "cook_torrance_ggx", "cook_torrance_exact_fresnel",
                                "cook_torrance_seed004"};
 
@@ -56,48 +51,12 @@ struct Triples {
     std::size_t size() const { return N.size() / 3; }
 };
 
-// Rodrigues rotation of unit v about unit axis a by angle t.
-dvec3 rotate(const dvec3& v, const dvec3& a, double t) {
-    return v * std::cos(t) + glm::cross(a, v) * std::sin(t) + a * glm::dot(a, v) * (1.0 - std::cos(t));
-}
-
-dvec3 any_perpendicular(const dvec3& v) {
-    return glm::normalize(glm::cross(v, std::abs(v.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
-}
-
-// How much the exact value moves per radian when L or V is turned by a small angle, or per unit of relative
-// length when N is scaled: the largest one-sided difference quotient over turns of +-kTurn about two axes
-// perpendicular to each and scalings by 1 +- kTurn (the reference in double). Float rounding turns every
-// direction the kernel forms (the inputs' components, L + V, H, the dot products) by about 2^-24 = 6e-8 rad and
-// leaves unit vectors unit to about as much; this slope times that is what the rounding can do to an exact
-// evaluation.
-constexpr double kTurn = 1e-6;
-double slope(const dvec3& N, const dvec3& L, const dvec3& V, const Material& m, int c, double r) {
-    double s = 0.0;
-    for (int which = 0; which < 2; ++which) {
-        const dvec3 W = which ? V : L;
-        const dvec3 a1 = any_perpendicular(W), a2 = glm::cross(W, a1);
-        for (const dvec3& axis : {a1, a2})
-            for (double t : {kTurn, -kTurn}) {
-                const dvec3 Wt = rotate(W, axis, t);
-                const double rt = which ? ref::eval_material(N, L, Wt, {}, m)[c] : ref::eval_material(N, Wt, V, {}, m)[c];
-                s = std::max(s, std::abs(rt - r) / kTurn);
-            }
-    }
-    // A length 1 +- kTurn instead of a turn: the unit vectors the kernel forms are unit only to a few 6e-8 (the
-    // reference normalises its inputs, so for this model the quotient is 0; kept so the bound means the same in
-    // every test that uses it).
-    for (double f : {1.0 + kTurn, 1.0 - kTurn})
-        s = std::max(s, std::abs(ref::eval_material(N * f, L, V, {}, m)[c] - r) / kTurn);
-    return s;
-}
-
 // The kernel-vs-reference bound for one value (derivation above the sweep test below): the arithmetic itself,
 // 2e-6 relative plus 1e-7 absolute (relative above 1), and four roundings' worth of the slope, which is only
 // computed when the first part does not already cover the error.
 double allowed(const dvec3& N, const dvec3& L, const dvec3& V, const Material& m, int c, double r, double e) {
     const double base = 2e-6 * std::abs(r) + 1e-7 * std::max(std::abs(r), 1.0);
-    return e <= base ? base : base + 4.0 * 6e-8 * slope(N, L, V, m, c, r);
+    return e <= base ? base : base + 4.0 * 6e-8 * test::slope(N, L, V, m, c, r);
 }
 }  // namespace
 
@@ -108,7 +67,7 @@ TEST_CASE("cook-torrance closed-form values: the lobe peak and the mirror config
     //   value = kd albedo + ks specular f0 / (pi m^2).
     // Mirror configuration, V at theta from N and L mirrored (H = N): D = 1/(pi m^2), G = 1 (Gb = Gc = 2),
     //   value = ks specular F(cos theta) / (pi m^2 cos theta); with f0 = 1, F = 1.
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     Triples t;
     const dvec3 N{0, 0, 1};
     t.add(N, N, N);
@@ -136,18 +95,18 @@ TEST_CASE("cook-torrance closed-form values: the lobe peak and the mirror config
 
 // The bound. For each value, with r the reference and k the kernel:
 //   |k - r| <= 2e-6 |r| + 1e-7 max(|r|, 1) ... the arithmetic itself (a few float roundings), plus
-//              4 * 6e-8 * slope                 ... the rounding of the directions the kernel forms (slope above:
+//              4 * 6e-8 * slope                 ... the rounding of the directions the kernel forms (test::slope:
 //                                                   it carries the 1/NoV and 1/VoH factors, Beckmann's exponent
 //                                                   with its 2 tan / (m^2 cos^2) slope near a narrow peak,
 //                                                   Schlick's (1 - VoH)^5 at f0 = 0, ...).
-// Within 2e-6 of the horizon (|NoL| or |NoV| < 2e-6, where a turn of kTurn would cross it) the value jumps
+// Within 2e-6 of the horizon (|NoL| or |NoV| < 2e-6, where a turn of 1e-6 rad would cross it) the value jumps
 // from the lobe to 0 across NoV = 0 and either side is right: there only finiteness and sign are required.
 // The sweep's relative error where the problem is plainly well conditioned (NoL, NoV >= 0.05, LoV > -0.95 and the
 // value >= 1e-3 of the peak: the criterion of tests/test_precision.cpp) is printed beside it.
 TEST_CASE("cook-torrance kernels match the double references over m and f0 grids including the range ends",
           "[cook_torrance][kernel]") {
     const auto sweep = test::make_sweep(100000, 31);
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::cout << "cook-torrance kernel vs reference, " << sweep.size() << " triples: max rel over plainly conditioned "
               << "values; max abs; worst |k - r| / arithmetic part of the bound; number of values beyond it and the "
               << "worst of those in units of the full bound (<= 1 asserted)\n";
@@ -216,7 +175,7 @@ TEST_CASE("cook-torrance kernels match the double references over m and f0 grids
 // So D(theta) = value * cos theta / min(1, 2 cos^2 theta), and 2 pi * integral of D cos sin d theta must be 1.
 TEST_CASE("Beckmann and GGX are normalised: integral of D NoH over the hemisphere is 1 (kernel and reference)",
           "[cook_torrance][physics]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const int n = 100000;   // midpoint rule in theta: spacing 1.6e-5 rad, 1/1300 of the narrowest lobe (m = 0.02)
     Triples t;
     const dvec3 N{0, 0, 1};
@@ -252,7 +211,7 @@ TEST_CASE("Beckmann and GGX are normalised: integral of D NoH over the hemispher
 // kernel (CT's g-form with 1/eta) is checked against Snell's law and the s/p reflectances written here.
 TEST_CASE("Fresnel: Schlick against the exact dielectric term against Snell's law and the seed's angle form",
           "[cook_torrance]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     Triples t;
     const dvec3 N{0, 0, 1};
     const double degs[] = {0, 15, 30, 45, 60, 70, 75, 80, 84, 87, 89, 89.9};
@@ -321,7 +280,7 @@ TEST_CASE("Fresnel: Schlick against the exact dielectric term against Snell's la
 // defined; the kernel (two launches with L and V swapped) within the sweep's bound applied to both sides.
 TEST_CASE("cook-torrance is reciprocal: kernel and reference", "[cook_torrance][physics]") {
     const auto sweep = test::make_sweep(100000, 77);
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     for (const char* model : kModels)
         for (double m : {0.02, 0.3, 1.0}) {
             const Material mat = ct(model, m, 0.04, 1.0);
@@ -425,7 +384,7 @@ TEST_CASE("cook-torrance white furnace: directional albedo of the specular lobe 
                 const dvec3 H{std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)};
                 t.add(N, 2.0 * glm::dot(V, H) * H - V, V);
             }
-        Shader shader(runtime());
+        Shader shader(test::runtime());
         const auto o = shader.eval_directions(mat, t.N, t.L, t.V, t.P);
         const double ak = albedo(mat, 45.0, &o), ar = albedo(mat, 45.0, nullptr);
         std::cout << "  furnace m 0.3, view 45 deg: kernel " << ak << ", reference " << ar << "\n";
@@ -441,7 +400,7 @@ TEST_CASE("cook-torrance white furnace: directional albedo of the specular lobe 
 // own singularity. The cases, all with N = +z so every dot product below is exact in float:
 TEST_CASE("cook-torrance at its failure points: finite, equal to the reference, zero where undefined",
           "[cook_torrance][stability]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     Triples t;
     std::vector<std::string> what;
     const dvec3 N{0, 0, 1};

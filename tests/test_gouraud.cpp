@@ -8,6 +8,7 @@
 #include "mesh/mesh.hpp"
 #include "raster/raster.hpp"
 #include "shade/gouraud.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
@@ -45,7 +46,7 @@ TEST_CASE("rasteriser barycentrics reproduce any per-vertex linear field exactly
 }
 
 TEST_CASE("Gouraud Lambert on a sphere converges to per-pixel Lambert with tessellation", "[gouraud]") {
-    Runtime rt;
+    Runtime& rt = test::runtime();
     Shader shader(rt);
     ShadeSetup setup;
     setup.material.albedo = glm::dvec3(0.8);

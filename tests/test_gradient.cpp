@@ -13,17 +13,12 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 using glm::dvec3;
 
 namespace {
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
 Material child(const std::string& model, dvec3 albedo) {
     Material m;
     m.model = model;
@@ -63,7 +58,7 @@ struct HeadOn {
 TEST_CASE("gradient closed form: B on the crest, A in the trough, halfway between, with period and phase",
           "[gradient][kernel]") {
     const Material red = child("lambert", {1, 0, 0}), blue = child("lambert", {0, 0, 1});
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     // Along y, period 4, phase 0: t = 1 at y = 0 and 8 (B), 0 at y = 2 (A), 1/2 at y = 1 and 3. x and z are
     // across the wave and change nothing.
     const HeadOn h({{3, 0, -1}, {3, 2, -1}, {3, 1, -1}, {-7, 8, 5}, {0, 3, 0}});
@@ -111,7 +106,7 @@ TEST_CASE("gradient blends every catalogue model pair: against its children's ke
     const auto sweep = test::make_sweep(20000, 5);
     const dvec3 g{0.3, -0.5, 0.8};
     const double period = 2.5, phase = 0.7;
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::cout << "gradient over " << names.size() << " catalogue models, " << sweep.size()
               << " triples per pair: blend error in units of its bound / max rel vs reference (conditioned)\n";
     for (std::size_t pi = 0; pi < names.size(); pi += 2) {
@@ -171,7 +166,7 @@ TEST_CASE("gradient rejects a zero direction, blends of blends and a wrong child
     // normalised, before any launch - also through the shader, which is what a scene or the CLI reaches.
     const Material resolved = resolve_material(m);
     REQUIRE_THROWS_WITH(pack_material(resolved), Catch::Contains("gradient direction") && Catch::Contains("(0, 0, 0)"));
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const std::vector<float> one = {0, 0, 1};
     REQUIRE_THROWS_AS(shader.eval_directions(resolved, one, one, one, one), Error);
     REQUIRE_THROWS_WITH(ref::eval_material({0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 0}, resolved),

@@ -3,21 +3,13 @@
 
 #include <cmath>
 #include <filesystem>
-#include <unistd.h>
 
 #include "core/error.hpp"
 #include "image/image.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 namespace fs = std::filesystem;
-
-namespace {
-fs::path temp_dir() {
-    fs::path p = fs::temp_directory_path() / ("shadelab-test-image-" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-}
-}  // namespace
 
 TEST_CASE("sRGB transfer is the IEC 61966-2-1 piecewise curve, not gamma 2.2", "[image]") {
     CHECK(srgb_encode(0.0) == 0.0);
@@ -36,7 +28,7 @@ TEST_CASE("sRGB transfer is the IEC 61966-2-1 piecewise curve, not gamma 2.2", "
 }
 
 TEST_CASE("EXR round trip is exact linear float - PNG round trip is within 8-bit sRGB quantisation", "[image]") {
-    const fs::path dir = temp_dir();
+    const fs::path dir = test::scratch_dir("image");
     Image img(37, 23, 4);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
@@ -74,7 +66,7 @@ TEST_CASE("EXR round trip is exact linear float - PNG round trip is within 8-bit
 }
 
 TEST_CASE("images with NaN or Inf are refused, bad extensions named", "[image]") {
-    const fs::path dir = temp_dir();
+    const fs::path dir = test::scratch_dir("image");
     Image img(4, 4, 4);
     img.at(1, 1, 1) = std::nanf("");
     img.at(2, 2, 2) = INFINITY;

@@ -10,15 +10,11 @@
 #include "raster/raster.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
 }  // namespace
 
 TEST_CASE("lambert kernel matches the double reference over the whole sphere", "[lambert][kernel]") {
@@ -27,7 +23,7 @@ TEST_CASE("lambert kernel matches the double reference over the whole sphere", "
     m.model = "lambert";
     m.albedo = {0.9, 0.5, 0.25};
     m = resolve_material(m);
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const auto out = shader.eval_directions(m, sweep.N, sweep.L, sweep.V, sweep.P);
     std::vector<glm::dvec3> ref(sweep.size());
     for (std::size_t i = 0; i < sweep.size(); ++i)
@@ -57,7 +53,7 @@ TEST_CASE("lambert is zero for light below the horizon and albedo at normal inci
     Material m;
     m.albedo = {0.2, 0.4, 0.6};
     m = resolve_material(m);
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     // N = +z; L = +z (head-on), L = -z (behind), L at 60 deg (cos = 0.5).
     const float s60 = float(std::sqrt(3.0) / 2.0);
     std::vector<float> N = {0, 0, 1, 0, 0, 1, 0, 0, 1};
@@ -86,7 +82,7 @@ TEST_CASE("lambert sphere end to end matches the closed form, error shrinks with
     ShadeSetup setup;
     setup.material = m;
     setup.lights = {Light{Light::Type::Directional, Ldir, {1, 1, 1}, E, 0.0}};
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     double previous = 1e9;
     for (int level : {2, 3, 4, 5, 6}) {
         const Mesh sphere = make_icosphere(level);

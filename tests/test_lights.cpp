@@ -17,17 +17,12 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 using glm::dvec3;
 
 namespace {
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
 // Models the sum is checked with: Lambert, and those of the other families that the catalogue has when the
 // test runs (looked up by name, so a family that is not there is skipped, not failed).
 std::vector<std::string> sum_models() {
@@ -90,39 +85,13 @@ dvec3 incident(const Light& l, const dvec3& P, dvec3* L) {
     return l.colour * l.intensity * (w / d2);
 }
 
-dvec3 rotate(const dvec3& v, const dvec3& a, double t) {
-    return v * std::cos(t) + glm::cross(a, v) * std::sin(t) + a * glm::dot(a, v) * (1.0 - std::cos(t));
-}
-
-// The model's slope per radian of turning L or V (largest one-sided difference quotient over +-1e-6 rad about
-// two axes each) or per unit of relative length of N, channel c: what a rounding of the directions can do to the
-// exact value (as in test_cook_torrance.cpp).
-double slope(const dvec3& N, const dvec3& L, const dvec3& V, const Material& m, int c) {
-    const double r = ref::eval_material(N, L, V, {}, m)[c], turn = 1e-6;
-    double s = 0.0;
-    for (int which = 0; which < 2; ++which) {
-        const dvec3 W = which ? V : L;
-        const dvec3 a1 = glm::normalize(glm::cross(W, std::abs(W.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0)));
-        for (const dvec3& axis : {a1, glm::cross(W, a1)})
-            for (double t : {turn, -turn}) {
-                const dvec3 Wt = rotate(W, axis, t);
-                const double rt = which ? ref::eval_material(N, L, Wt, {}, m)[c] : ref::eval_material(N, Wt, V, {}, m)[c];
-                s = std::max(s, std::abs(rt - r) / turn);
-            }
-    }
-    // A length 1 +- 1e-6 instead of a turn (the unit vectors the kernel forms are unit only to a few 6e-8, and a
-    // model such as Blinn-Phong's NoH^n multiplies that by n): scaling N scales every cosine alike.
-    for (double f : {1.0 + turn, 1.0 - turn})
-        s = std::max(s, std::abs(ref::eval_material(N * f, L, V, {}, m)[c] - r) / turn);
-    return s;
-}
 }  // namespace
 
 // ---- closed-form spot values -------------------------------------------------------------------------------
 
 TEST_CASE("lights: colours per channel, ambient, inverse square and the range window in closed form",
           "[lights][kernel]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     FragmentBuffer fb;
     fb.push_back(0, 0, 0, 0, 0, 1, 0, 1.0f);   // the origin, normal +z
     ShadeSetup s;
@@ -173,12 +142,12 @@ TEST_CASE("lights: colours per channel, ambient, inverse square and the range wi
 //   |k - r| <= 4e-6 (sum_i |E_i v_i| + ambient albedo) + 1e-7 sum_i E_i    the arithmetic (atten, the sum,
 //                                                                           the model's own few roundings)
 //            + sum_i E_i * 4 * 6e-8 * slope_i                              where that is not enough: four
-//                                                                           roundings of L_i and V (slope as in
-//                                                                           test_cook_torrance.cpp)
+//                                                                           roundings of L_i and V (test::slope
+//                                                                           in support.hpp)
 // The lights' positions and directions are float already (make_lights), as are the fragments.
 TEST_CASE("multi-light sum: shade_fragments against ref::shade_point for 0, 1, 2 and 5 lights, both view modes",
           "[lights][kernel]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::mt19937_64 g(21);
     const FragmentBuffer fb = random_fragments(50000, 3);
     const std::size_t n = fb.size();
@@ -224,7 +193,7 @@ TEST_CASE("multi-light sum: shade_fragments against ref::shade_point for 0, 1, 2
                         ++beyond;
                         double bound = base;
                         for (std::size_t li = 0; li < Ls.size(); ++li)
-                            bound += Es[li][c] * 4.0 * 6e-8 * slope(N, Ls[li], V, s.material, c);
+                            bound += Es[li][c] * 4.0 * 6e-8 * test::slope(N, Ls[li], V, s.material, c);
                         if (e / bound > units) {
                             units = e / bound;
                             worst = i;
@@ -253,7 +222,7 @@ TEST_CASE("multi-light sum: shade_fragments against ref::shade_point for 0, 1, 2
 // survive: for Lambert (0 at NoL = 0) the value is exactly the directional light's, so the light on the point
 // adds nothing and did not turn the sum into Inf/NaN (which shade.cl would write as 0).
 TEST_CASE("lights: a point light on the surface point gives a finite value for every model", "[lights][stability]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     FragmentBuffer fb;
     fb.push_back(1, 2, 3, 0, 0, 1, 0, 1.0f);
     fb.push_back(1, 2, 3, 0, 1, 0, 1, 1.0f);

@@ -12,12 +12,11 @@
 
 #include "core/error.hpp"
 #include "mesh/mesh.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
-const std::string kData = SHADELAB_TEST_DATA_DIR;
-const std::string kMeshes = SHADELAB_MESH_DIR;
 
 std::size_t vertex_at(const Mesh& m, const glm::dvec3& p) {
     for (std::size_t i = 0; i < m.positions.size(); ++i)
@@ -45,7 +44,7 @@ TEST_CASE("mesh: cube without normals gets area-weighted normals (hand computed)
     // but in one of the y = 0 and of the z = 0 face: area weighting gives (2, -1, -1)/sqrt(6), where angle
     // weighting would give the diagonal. Corner (1,1,0): both bottom triangles, one back, one right.
     MeshLoadReport r;
-    const Mesh m = load_mesh(kData + "/cube_no_normals.obj", &r);
+    const Mesh m = load_mesh(test::kData + "/cube_no_normals.obj", &r);
     REQUIRE(m.triangles.size() == 12);
     CHECK_FALSE(r.normals_from_file);
     CHECK(r.normals_repaired == 0);
@@ -68,7 +67,7 @@ TEST_CASE("mesh: cube without normals gets area-weighted normals (hand computed)
 TEST_CASE("mesh: valid file normals are kept, zero or missing ones recomputed and counted", "[mesh]") {
     SECTION("only the bottom face's corners name a normal") {
         MeshLoadReport r;
-        const Mesh m = load_mesh(kData + "/partial_normals.obj", &r);
+        const Mesh m = load_mesh(test::kData + "/partial_normals.obj", &r);
         INFO(notes_of(r));
         CHECK(r.normals_from_file);
         CHECK(r.normals_repaired == 1);
@@ -79,12 +78,12 @@ TEST_CASE("mesh: valid file normals are kept, zero or missing ones recomputed an
         // Vertex (0,0,1): faces with cross products (0,-1,0), (-1,0,0), (1,1,1) sum to (0,0,1).
         CHECK(glm::length(m.normals[vertex_at(m, {0, 0, 1})] - glm::dvec3(0, 0, 1)) < 1e-12);
         // The vertex without a file normal must not pick up whatever OpenMesh left in memory.
-        const Mesh again = load_mesh(kData + "/partial_normals.obj");
+        const Mesh again = load_mesh(test::kData + "/partial_normals.obj");
         CHECK(again.normals == m.normals);
     }
     SECTION("a zero normal in the file") {
         MeshLoadReport r;
-        const Mesh m = load_mesh(kData + "/zero_normal.obj", &r);
+        const Mesh m = load_mesh(test::kData + "/zero_normal.obj", &r);
         INFO(notes_of(r));
         CHECK(r.normals_from_file);
         CHECK(r.normals_repaired == 1);
@@ -96,7 +95,7 @@ TEST_CASE("mesh: valid file normals are kept, zero or missing ones recomputed an
 TEST_CASE("mesh: normals that cancel take an adjacent face's - unused vertices are counted", "[mesh]") {
     // One triangle listed twice with opposite windings: the area-weighted sums are exactly zero.
     MeshLoadReport r;
-    const Mesh m = load_mesh(kData + "/cancel.obj", &r);
+    const Mesh m = load_mesh(test::kData + "/cancel.obj", &r);
     INFO(notes_of(r));
     REQUIRE(m.triangles.size() == 2);
     CHECK(r.unused_vertices == 1);
@@ -117,7 +116,7 @@ TEST_CASE("mesh: faces naming a vertex twice are dropped and counted (OBJ and OF
     // OpenMesh drops the OBJ one silently and logs the OFF one; both must reach the report.
     for (const char* f : {"repeated.obj", "repeated.off"}) {
         MeshLoadReport r;
-        const Mesh m = load_mesh(kData + "/" + f, &r);
+        const Mesh m = load_mesh(test::kData + "/" + f, &r);
         INFO(f << ": " << notes_of(r));
         CHECK(m.triangles.size() == 4);
         CHECK(r.triangles_out == 4);
@@ -130,8 +129,8 @@ TEST_CASE("mesh: faces naming a vertex twice are dropped and counted (OBJ and OF
 TEST_CASE("mesh: NaN/Inf coordinates are named in every format, never reported as 'no triangles'", "[mesh]") {
     for (const char* f : {"nan.obj", "nan.off", "inf.ply", "nan_binary.ply", "nan_ascii.stl", "nan_binary.stl"}) {
         INFO(f);
-        REQUIRE_THROWS_AS(load_mesh(kData + "/" + f), Error);
-        REQUIRE_THROWS_WITH(load_mesh(kData + "/" + f), Catch::Contains(f) && Catch::Contains("NaN/Inf") &&
+        REQUIRE_THROWS_AS(load_mesh(test::kData + "/" + f), Error);
+        REQUIRE_THROWS_WITH(load_mesh(test::kData + "/" + f), Catch::Contains(f) && Catch::Contains("NaN/Inf") &&
                                                             Catch::Contains("fix or remove"));
     }
 }
@@ -140,7 +139,7 @@ TEST_CASE("mesh: every failure is one line naming the file", "[mesh]") {
     for (const char* f : {"does-not-exist.obj", "unknown.xyz", "empty.obj", "points_only.obj", "garbage.ply", "nan.obj"}) {
         INFO(f);
         try {
-            load_mesh(kData + "/" + f);
+            load_mesh(test::kData + "/" + f);
             FAIL("no error for " << f);
         } catch (const Error& e) {
             const std::string msg = e.what();
@@ -150,14 +149,14 @@ TEST_CASE("mesh: every failure is one line naming the file", "[mesh]") {
             CHECK(msg.find(": ") != std::string::npos);   // what went wrong: what to do
         }
     }
-    CHECK_THROWS_WITH(load_mesh(kData + "/unknown.xyz"),
+    CHECK_THROWS_WITH(load_mesh(test::kData + "/unknown.xyz"),
                       Catch::Contains(".obj") && Catch::Contains(".off") && Catch::Contains(".ply") && Catch::Contains(".stl"));
 }
 
 TEST_CASE("mesh: binary STL and upper-case extensions load - report counts", "[mesh]") {
     for (const char* f : {"tetra_binary.stl", "upper_case.OFF", "tetra.off"}) {
         MeshLoadReport r;
-        const Mesh m = load_mesh(kData + "/" + f, &r);
+        const Mesh m = load_mesh(test::kData + "/" + f, &r);
         INFO(f << ": " << notes_of(r));
         CHECK(m.positions.size() == 4);   // STL corners are merged by position
         CHECK(m.triangles.size() == 4);
@@ -166,7 +165,7 @@ TEST_CASE("mesh: binary STL and upper-case extensions load - report counts", "[m
         CHECK(r.triangles_out == 4);
         CHECK(r.degenerate_dropped == 0);
         CHECK(r.notes.empty());
-        CHECK(m.source == kData + "/" + f);
+        CHECK(m.source == test::kData + "/" + f);
         CHECK(glm::length(m.normals[vertex_at(m, {0, 0, 0})] - glm::dvec3(-1, -1, -1) / std::sqrt(3.0)) < 1e-12);
         const Bounds b = m.bounds();
         CHECK(b.lo == glm::dvec3(0.0));
@@ -178,7 +177,7 @@ TEST_CASE("mesh: binary STL and upper-case extensions load - report counts", "[m
 
 TEST_CASE("mesh: suzanne's complex edges become notes - its duplicated vertices are reported", "[mesh]") {
     MeshLoadReport r;
-    const Mesh m = load_mesh(kMeshes + "/suzanne.obj", &r);
+    const Mesh m = load_mesh(test::kMeshes + "/suzanne.obj", &r);
     INFO(notes_of(r));
     CHECK(m.positions.size() == 511);
     CHECK(r.vertices_in == 511);

@@ -5,12 +5,11 @@
 
 #include "core/error.hpp"
 #include "mesh/mesh.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
-const std::string kMeshes = SHADELAB_MESH_DIR;
-const std::string kData = SHADELAB_TEST_DATA_DIR;
 
 void check_unit_normals(const Mesh& m) {
     std::size_t bad = 0;
@@ -25,7 +24,7 @@ TEST_CASE("the bundled meshes load with their known counts and unit normals", "[
     for (const Known k : {Known{"spot.obj", 5856}, Known{"teapot.obj", 6320}, Known{"suzanne.obj", 968},
                           Known{"stanford-bunny.obj", 69451}}) {
         MeshLoadReport r;
-        const Mesh m = load_mesh(kMeshes + "/" + k.file, &r);
+        const Mesh m = load_mesh(test::kMeshes + "/" + k.file, &r);
         INFO(k.file);
         CHECK(m.triangles.size() == k.triangles);
         CHECK(r.triangles_out == k.triangles);
@@ -33,15 +32,15 @@ TEST_CASE("the bundled meshes load with their known counts and unit normals", "[
         check_unit_normals(m);
     }
     MeshLoadReport bunny;
-    load_mesh(kMeshes + "/stanford-bunny.obj", &bunny);
+    load_mesh(test::kMeshes + "/stanford-bunny.obj", &bunny);
     CHECK(bunny.unused_vertices == 1113);   // unreferenced vertices already in the file (SOURCES.md)
     CHECK_FALSE(bunny.notes.empty());
     MeshLoadReport suzanne;
-    const Mesh s = load_mesh(kMeshes + "/suzanne.obj", &suzanne);
+    const Mesh s = load_mesh(test::kMeshes + "/suzanne.obj", &suzanne);
     CHECK(s.positions.size() == 511);       // OpenMesh re-adds one quad with 4 duplicated vertices
     // Those copies carry no file normal (OpenMesh leaves it uninitialised): they must take their
     // original's, the same on every load.
-    const Mesh s2 = load_mesh(kMeshes + "/suzanne.obj");
+    const Mesh s2 = load_mesh(test::kMeshes + "/suzanne.obj");
     CHECK(s.normals == s2.normals);
     for (std::size_t i = 507; i < 511; ++i) {
         bool matched = false;
@@ -56,7 +55,7 @@ TEST_CASE("OFF, PLY and STL load - missing normals are computed area-weighted", 
     for (const char* f : {"tetra.off", "tetra.ply", "tetra.stl"}) {
         INFO(f);
         MeshLoadReport r;
-        const Mesh m = load_mesh(kData + "/" + f, &r);
+        const Mesh m = load_mesh(test::kData + "/" + f, &r);
         REQUIRE(m.triangles.size() == 4);
         check_unit_normals(m);
         // The corner at the origin touches the three axis faces (each of area 1/2): the area-weighted
@@ -71,19 +70,19 @@ TEST_CASE("OFF, PLY and STL load - missing normals are computed area-weighted", 
 }
 
 TEST_CASE("bad mesh input gives one clear error naming the file", "[mesh]") {
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/does-not-exist.obj"), Catch::Contains("does-not-exist.obj") && Catch::Contains("not found"));
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/unknown.xyz"), Catch::Contains("unknown.xyz") && Catch::Contains(".obj"));
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/empty.obj"), Catch::Contains("empty.obj") && Catch::Contains("empty"));
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/points_only.obj"), Catch::Contains("points_only.obj") && Catch::Contains("no triangles"));
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/nan.obj"), Catch::Contains("nan.obj") && Catch::Contains("NaN/Inf"));
-    REQUIRE_THROWS_AS(load_mesh(kData + "/garbage.ply"), Error);
-    REQUIRE_THROWS_WITH(load_mesh(kData + "/garbage.ply"), Catch::Contains("garbage.ply"));
-    REQUIRE_THROWS_WITH(load_mesh(kData), Catch::Contains("folder"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/does-not-exist.obj"), Catch::Contains("does-not-exist.obj") && Catch::Contains("not found"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/unknown.xyz"), Catch::Contains("unknown.xyz") && Catch::Contains(".obj"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/empty.obj"), Catch::Contains("empty.obj") && Catch::Contains("empty"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/points_only.obj"), Catch::Contains("points_only.obj") && Catch::Contains("no triangles"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/nan.obj"), Catch::Contains("nan.obj") && Catch::Contains("NaN/Inf"));
+    REQUIRE_THROWS_AS(load_mesh(test::kData + "/garbage.ply"), Error);
+    REQUIRE_THROWS_WITH(load_mesh(test::kData + "/garbage.ply"), Catch::Contains("garbage.ply"));
+    REQUIRE_THROWS_WITH(load_mesh(test::kData), Catch::Contains("folder"));
 }
 
 TEST_CASE("degenerate triangles are dropped and reported, never silently kept", "[mesh]") {
     MeshLoadReport r;
-    const Mesh m = load_mesh(kData + "/degenerate.obj", &r);
+    const Mesh m = load_mesh(test::kData + "/degenerate.obj", &r);
     CHECK(m.triangles.size() == 2);
     CHECK(r.degenerate_dropped == 1);
     bool noted = false;

@@ -18,22 +18,12 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 using glm::dvec3;
 
 namespace {
-
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
-const test::DirectionSweep& sweep() {
-    static const test::DirectionSweep s = test::make_sweep(120000);
-    return s;
-}
 
 // The limb guard of the 1941-law models (kernel and reference both define it; this is the documented value).
 constexpr double kEps = 1e-3;
@@ -60,16 +50,12 @@ const std::vector<Case>& grid() {
     return g;
 }
 
-Material make(const std::string& model, const std::string& param, double value,
-              dvec3 albedo = dvec3(0.9, 0.5, 0.25)) {
-    Material m;
-    m.model = model;
-    if (!param.empty()) m.params[param] = value;
-    m.albedo = albedo;
-    return resolve_material(m);
+Material make(const std::string& model, const std::string& param, double value, dvec3 albedo = test::kAlbedo) {
+    return test::material(model, param.empty() ? std::map<std::string, double>{} : std::map<std::string, double>{{param, value}},
+                          albedo);
 }
 
-Material make(const Case& c, dvec3 albedo = dvec3(0.9, 0.5, 0.25)) { return make(c.model, c.param, c.value, albedo); }
+Material make(const Case& c, dvec3 albedo = test::kAlbedo) { return make(c.model, c.param, c.value, albedo); }
 
 std::string label(const Case& c) {
     std::ostringstream s;
@@ -87,7 +73,7 @@ std::vector<float> flatten(const std::vector<dvec3>& v) {
 
 std::vector<float> eval_kernel(const Material& m, const std::vector<dvec3>& N, const std::vector<dvec3>& L,
                                const std::vector<dvec3>& V) {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const auto fN = flatten(N), fL = flatten(L), fV = flatten(V);
     const std::vector<float> fP(fN.size(), 0.0f);
     return shader.eval_directions(m, fN, fL, fV, fP);
@@ -168,8 +154,8 @@ double guarded_moment(double k) {
 
 TEST_CASE("minnaert kernels match the double references over the sphere, parameter grids incl. ends",
           "[minnaert][kernel]") {
-    const auto& s = sweep();
-    Shader shader(runtime());
+    const auto& s = test::sweep();
+    Shader shader(test::runtime());
     std::cout << "minnaert kernel vs reference, " << s.size() << " triples each. 'interval' = the reference's "
               << "range over +-" << kDotErr << " in NoL, NoV (float dot rounding); 'cond' = well-conditioned triples, "
               << "where that range is within 4e-6 of the value (and |value| >= 1e-6)\n";
@@ -271,8 +257,8 @@ TEST_CASE("minnaert closed-form spot values (computed by hand)", "[minnaert][ker
 
 TEST_CASE("minnaert identities: the Lambert points of each variant, and unity(k) = 1941(k+1) where unclipped",
           "[minnaert][identity]") {
-    const auto& s = sweep();
-    Shader shader(runtime());
+    const auto& s = test::sweep();
+    Shader shader(test::runtime());
     const Material lam = make("lambert", "", 0.0);
     const auto lambert = shader.eval_directions(lam, s.N, s.L, s.V, s.P);
     struct Id {
@@ -338,7 +324,7 @@ TEST_CASE("minnaert_unity's saturate clips a fraction -k of uniformly distribute
     // For L, V uniform over the upper hemisphere, NoL and NoV are uniform on [0, 1]. For k in (-1, 0) the clip
     // NoL^(1+k) NoV^k > 1 is NoV < NoL^((1+k)/(-k)), of probability 1 / (1 + (1+k)/(-k)) = -k (by hand); for
     // k >= 0 the value never exceeds NoL <= 1. The sweep's "random" triples are uniform on the sphere.
-    const auto& s = sweep();
+    const auto& s = test::sweep();
     std::cout << "minnaert_unity clipping vs minnaert_1941 (k+1), uniform lit-and-seen (L, V) pairs:\n"
               << "      k  clipped   expect  ratio 1941/unity among clipped: median      p99       max"
               << "   furnace W(V=60deg) unity / 1941\n";
@@ -378,8 +364,8 @@ TEST_CASE("minnaert_blender (d <= 1) is the 1941 law with k = d outside its 0.1 
     // Where NoV NoL >= 0.1 Blender's "Real model" NoL (nv nl)^(d-1) is NoL^d NoV^(d-1). For NoL, NoV uniform on
     // [0, 1] the clamp region NoL NoV < 0.1 has probability 0.1 + integral_0.1^1 0.1/x dx = 0.1 (1 + ln 10)
     // = 0.3303 (by hand), whatever d is.
-    const auto& s = sweep();
-    Shader shader(runtime());
+    const auto& s = test::sweep();
+    Shader shader(test::runtime());
     const double expect = 0.1 * (1.0 + std::log(10.0));
     std::cout << "minnaert_blender vs minnaert_1941 (k = d), uniform lit-and-seen pairs; clamp share expected "
               << expect << "\n      d  clamped  outside: max rel diff kernels       refs  ratio 1941/blender in "
@@ -424,7 +410,7 @@ TEST_CASE("minnaert_blender (d <= 1) is the 1941 law with k = d outside its 0.1 
 
 TEST_CASE("minnaert reciprocity: the 1941 law and its normalised form always, the shader forms only in part",
           "[minnaert][physics]") {
-    const auto& s = sweep();
+    const auto& s = test::sweep();
     std::vector<std::size_t> idx;
     for (std::size_t i = 0; i < s.size(); ++i)
         if (glm::dot(s.dN[i], s.dL[i]) > 0.0 && glm::dot(s.dN[i], s.dV[i]) > 0.0) idx.push_back(i);
@@ -633,7 +619,7 @@ TEST_CASE("minnaert_1941 at zero phase gives the disc profile mu^(2k-1), end to 
         }
     fb.width = fb.height = n;
     const double E = 1.7, B0 = 0.12;
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::cout << "zero-phase disc, " << fb.size() << " pixels: max rel error vs B0 E mu^(2k-1) (mu >= 0.02)\n";
     for (double k : {0.3, 0.5, 0.7, 1.0, 1.3}) {
         ShadeSetup setup;

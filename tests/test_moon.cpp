@@ -27,6 +27,7 @@
 #include "moon/photometry.hpp"
 #include "moon/plot.hpp"
 #include "reference/reference.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 using namespace shadelab::moon;
@@ -34,23 +35,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
-fs::path temp_dir() {
-    fs::path p = fs::temp_directory_path() / ("shadelab-test-moon-" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-}
-
 Material material(const std::string& model, const std::map<std::string, double>& params, double albedo) {
-    Material m;
-    m.model = model;
-    m.params = params;
-    m.albedo = glm::dvec3(albedo);
-    return resolve_material(m);
+    return test::material(model, params, glm::dvec3(albedo));
 }
 
 constexpr int kSize = 256;
@@ -66,7 +52,7 @@ Image render(const Material& m, double phase, double pa, int mesh_level = -1, do
     o.mesh_level = mesh_level;
     o.noise_sigma = noise;
     o.noise_seed = seed;
-    return render_disc(runtime(), o, rep);
+    return render_disc(test::runtime(), o, rep);
 }
 
 // Max relative error of the image against a closed form over pixels well inside the disc.
@@ -505,7 +491,7 @@ TEST_CASE("moon fit refuses meaningless inputs with one clear line", "[moon][fit
 }
 
 TEST_CASE("moon bad input: unreadable images, missing files, bad FITS", "[moon]") {
-    const fs::path dir = temp_dir();
+    const fs::path dir = test::scratch_dir("moon");
     CHECK_THROWS_WITH(read_any_image((dir / "missing.exr").string()), Catch::Contains("not found"));
     CHECK_THROWS_WITH(read_any_image((dir / "missing.fits").string()), Catch::Contains("not found"));
     {
@@ -567,7 +553,7 @@ TEST_CASE("moon limb stability: k < 0.5 near the limb gives finite values in ren
     o.sun = sun_geometry(20.0, 0.0);
     o.limb_mask_mu = 0.1;
     DiscRenderReport rep;
-    const Image masked = render_disc(runtime(), o, &rep);
+    const Image masked = render_disc(test::runtime(), o, &rep);
     CHECK(rep.masked > 0);
     for (const DiscPixel& p : disc_pixels(masked, kDisc, o.sun)) CHECK(p.a.mu >= 0.1 - 1e-12);
     // Tables refuse NaN/Inf outright.
@@ -642,7 +628,7 @@ TEST_CASE("moon k map and longitude bins of a uniform Minnaert disc are flat", "
 
 TEST_CASE("moon FITS files are standard (bottom row first, 2880-byte blocks) and round trip - fits agree across formats",
           "[moon][kernel][image]") {
-    const fs::path dir = temp_dir();
+    const fs::path dir = test::scratch_dir("moon");
     const Material m = material("minnaert_1941", {{"k", 0.58}}, 0.35);
     const SunGeometry sun = sun_geometry(35.0, 75.0);
     const Image img = render(m, 35.0, 75.0);
@@ -731,7 +717,7 @@ TEST_CASE("moon FITS files are standard (bottom row first, 2880-byte blocks) and
 
 TEST_CASE("moon plots: gnuplot draws the charts - without gnuplot one error line names gnuplot-nox, CSV kept",
           "[moon][plot]") {
-    const fs::path dir = temp_dir();
+    const fs::path dir = test::scratch_dir("moon");
     const std::string csv = (dir / "c.csv").string(), png = (dir / "c.png").string();
     const SunGeometry sun = sun_geometry(30.0, 0.0);
     const PhotometricModel m = make_photometric_model("minnaert", 0.7, 0, 1.0);

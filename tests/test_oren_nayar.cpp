@@ -17,16 +17,11 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
-
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
 
 const double kPi = 3.14159265358979323846;
 
@@ -43,11 +38,7 @@ const ParamSpec& roughness_param(const std::string& model) {
 }
 
 Material make(const std::string& model, double roughness, glm::dvec3 albedo) {
-    Material m;
-    m.model = model;
-    m.params[roughness_param(model).name] = roughness;
-    m.albedo = albedo;
-    return resolve_material(m);
+    return test::material(model, {{roughness_param(model).name, roughness}}, albedo);
 }
 
 // Both ends of the range and three points between (the default among them).
@@ -217,7 +208,7 @@ TEST_CASE("oren-nayar kernels match their double references over the whole spher
     std::cout << std::left << std::setw(22) << "model" << std::setw(8) << "rough" << std::setw(14) << "rel(well)"
               << std::setw(14) << "abs(well)" << std::setw(14) << "abs(rest)" << std::setw(14) << "err/u(rest)"
               << "err/u(horizon)\n";
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     double worst_rel_all = 0.0, worst_scaled_all = 0.0;
     for (const auto& model : kModels) {
         for (double r : roughness_grid(model)) {
@@ -258,7 +249,7 @@ TEST_CASE("oren-nayar kernels match their double references over the whole spher
 TEST_CASE("zero roughness is Lambert for every model of the family", "[oren_nayar][identity][kernel]") {
     const auto& s = sweep();
     const glm::dvec3 albedo{0.9, 0.5, 0.25};
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     Material lam;
     lam.albedo = albedo;
     lam = resolve_material(lam);
@@ -293,7 +284,7 @@ TEST_CASE("the trig form and the s/t form of the qualitative model are the same 
           "[oren_nayar][identity][kernel]") {
     const auto& s = sweep();
     const auto& tr = triples();
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::cout << "QON trig form vs s/t form:\n";
     for (double sigma : roughness_grid("oren_nayar")) {
         const glm::dvec3 albedo{1.0, 0.5, 0.25};
@@ -449,7 +440,7 @@ TEST_CASE("every model of the family is reciprocal above the horizon", "[oren_na
     // value / NoL = pi f_r must be symmetric in L and V. Double: every model, both ends of its range and the
     // default, over the sweep's upper-hemisphere triples. Float: the kernels where well-conditioned.
     const auto& s = sweep();
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     std::cout << "reciprocity, max relative asymmetry |f(L,V) - f(V,L)| / max(f): reference (double) / kernel "
                  "(NoL,NoV >= 0.05)\n";
     for (const auto& model : kModels) {
@@ -503,7 +494,7 @@ TEST_CASE("white furnace: directional albedo of every model against roughness - 
     const std::vector<double> views = {0.0, 60.0, 82.3, 89.9};
     const int steps = 512;
     const Hemisphere h = hemisphere_grid(views, steps);
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     Material lam;
     lam.albedo = glm::dvec3(1.0);
     const auto lam_a = directional_albedo(shader, resolve_material(lam), h, views.size());
@@ -582,7 +573,7 @@ TEST_CASE("the family's failure points: finite, and the closed-form values where
         V.insert(V.end(), {c.V.x, c.V.y, c.V.z});
         P.insert(P.end(), {0.0f, 0.0f, 0.0f});
     }
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const double rho = 0.8;
     for (const auto& model : kModels) {
         const auto& p = roughness_param(model);

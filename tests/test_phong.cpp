@@ -17,33 +17,16 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
 
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
-const test::DirectionSweep& sweep() {
-    static const test::DirectionSweep s = test::make_sweep(120000);
-    return s;
-}
-
-const glm::dvec3 kAlbedo{0.9, 0.5, 0.25};
-const glm::dvec3 kSpecular{1.0, 0.8, 0.6};
-
-Material make(const std::string& model, std::map<std::string, double> params = {}, glm::dvec3 albedo = kAlbedo,
-              glm::dvec3 specular = kSpecular) {
-    Material m;
-    m.model = model;
-    m.params = std::move(params);
-    m.albedo = albedo;
-    m.specular = specular;
-    return resolve_material(m);
+// The family's materials: the shared test colours, the specular one included.
+Material make(const std::string& model, std::map<std::string, double> params = {}, glm::dvec3 albedo = test::kAlbedo,
+              glm::dvec3 specular = test::kSpecular) {
+    return test::material(model, std::move(params), albedo, specular);
 }
 
 std::string describe(const Material& m) {
@@ -145,40 +128,13 @@ glm::dvec3 input_bound(const ModelShape& s, const Material& m, const Dots& d) {
     return B;
 }
 
-struct SweepResult {
-    double max_abs = 0.0, max_rel = 0.0, max_rel_cond = 0.0, worst_ratio = 0.0;
-    std::size_t cond = 0, rest = 0, non_finite = 0, tight_fail = 0, rest_fail = 0, worst = 0;
-};
-
-SweepResult check_sweep(const Material& m) {
-    const auto& sw = sweep();
-    Shader shader(runtime());
-    const auto out = shader.eval_directions(m, sw.N, sw.L, sw.V, sw.P);
+// The kernel over the standard sweep against the reference, with the input bound of each value.
+test::ConditionedStats check_sweep(const Material& m) {
     const ModelShape s = shape_of(m);
-    SweepResult e;
-    for (std::size_t i = 0; i < sw.size(); ++i) {
-        const glm::dvec3 r = ref::eval_material(sw.dN[i], sw.dL[i], sw.dV[i], sw.dP[i], m);
-        const glm::dvec3 B = input_bound(s, m, dots(s, sw.dN[i], sw.dL[i], sw.dV[i]));
-        for (int c = 0; c < 3; ++c) {
-            const double k = out[3 * i + std::size_t(c)];
-            if (!std::isfinite(k)) { ++e.non_finite; continue; }
-            const double err = std::abs(k - r[c]), mag = std::abs(r[c]);
-            e.max_abs = std::max(e.max_abs, err);
-            if (mag >= kValueFloor) e.max_rel = std::max(e.max_rel, err / mag);
-            if (mag >= kValueFloor && B[c] <= kCondRel * mag) {
-                ++e.cond;
-                e.max_rel_cond = std::max(e.max_rel_cond, err / mag);
-                if (err > kTightRel * mag) { ++e.tight_fail; e.worst = i; }
-            } else {
-                ++e.rest;
-                // the kernel's own rounding is relative to what it may legitimately return, up to |r| + B
-                const double allowed = kTightRel * (mag + B[c]) + B[c] + kUnderflow;
-                if (allowed > 0.0) e.worst_ratio = std::max(e.worst_ratio, err / allowed);
-                if (err > allowed) { ++e.rest_fail; e.worst = i; }
-            }
-        }
-    }
-    return e;
+    const auto& sw = test::sweep();
+    return test::conditioned_sweep(m, {kTightRel, kValueFloor, kCondRel, kUnderflow}, [&](std::size_t i, const glm::dvec3&) {
+        return input_bound(s, m, dots(s, sw.dN[i], sw.dL[i], sw.dV[i]));
+    });
 }
 
 // Directional albedo (1/pi) integral of value dL of a lobe-only material (albedo 0), by the midpoint rule
@@ -230,15 +186,15 @@ TEST_CASE("phong kernels match the double references over the sphere and the par
         for (double ks : {0.0, 0.5, 1.0})
             for (const char* name : {"phong_normalized", "blinn_phong_normalized", "blinn_phong_normalized_approx"})
                 grid.push_back(make(name, {{"n", n}, {"ks", ks}}));
-    std::cout << "phong kernels vs double reference, " << sweep().size()
+    std::cout << "phong kernels vs double reference, " << test::sweep().size()
               << " triples; conditioned: |ref| >= 1e-3 and the float input box moves it <= 1e-6 relative\n";
     for (const Material& m : grid) {
-        const SweepResult e = check_sweep(m);
+        const test::ConditionedStats e = check_sweep(m);
         std::cout << "  " << std::left << std::setw(50) << describe(m) << std::right << " max abs " << std::setw(11)
                   << e.max_abs << " max rel " << std::setw(11) << e.max_rel << "  cond " << std::setw(6) << e.cond
                   << " max rel " << std::setw(11) << e.max_rel_cond << "  rest " << std::setw(6) << e.rest
                   << " max err/bound " << e.worst_ratio << "\n";
-        const auto& sw = sweep();
+        const auto& sw = test::sweep();
         INFO(describe(m) << ": worst triple " << e.worst << " (" << sw.kind[e.worst] << ")");
         CHECK(e.non_finite == 0);
         CHECK(e.tight_fail == 0);
@@ -247,7 +203,7 @@ TEST_CASE("phong kernels match the double references over the sphere and the par
 }
 
 TEST_CASE("phong closed-form values, pow(0, 0), n = 0 and the L = -V guard", "[phong][kernel][stability]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const double c60 = 0.5, s60 = std::sqrt(3.0) / 2.0;
     const glm::dvec3 Nz{0, 0, 1};
     const glm::dvec3 L60{s60, 0, c60}, R60{-s60, 0, c60};
@@ -299,8 +255,8 @@ TEST_CASE("phong closed-form values, pow(0, 0), n = 0 and the L = -V guard", "[p
 }
 
 TEST_CASE("phong seed variants: the gloss/4 convention, and the measured effect of the missing NoL gate", "[phong][seed]") {
-    const auto& sw = sweep();
-    Shader shader(runtime());
+    const auto& sw = test::sweep();
+    Shader shader(test::runtime());
     std::cout << "seed 001's ungated forms vs the gated references (same exponent; green channel, specular 0.8):\n";
     for (double n : {1.0, 32.0, 1000.0}) {
         for (bool blinn : {false, true}) {
@@ -401,11 +357,7 @@ TEST_CASE("reciprocity: R(L).V == R(V).L - only the f_r forms (normalised) are r
         std::mt19937_64 h(7);
         double worst = 0.0;
         for (int i = 0; i < 3000; ++i) {
-            glm::dvec3 L = test::random_unit(h), V = test::random_unit(h);
-            L.z = std::abs(L.z) + 0.05;
-            V.z = std::abs(V.z) + 0.05;
-            L = glm::normalize(L);
-            V = glm::normalize(V);
+            const glm::dvec3 L = test::random_above(h), V = test::random_above(h);
             const double a = ref::eval_material(Nz, L, V, {}, m).x / L.z, b = ref::eval_material(Nz, V, L, {}, m).x / V.z;
             worst = std::max(worst, std::abs(a - b) / std::max({a, b, 1e-300}));
         }

@@ -11,17 +11,13 @@
 #include "image/image.hpp"
 #include "scene/batch.hpp"
 #include "scene/scene.hpp"
+#include "support.hpp"
 
 #include <unistd.h>
 
 using namespace shadelab;
 
 namespace {
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
 PlanInput sphere_scene(const Material& m, int level = 4, int size = 128) {
     PlanInput in;
     PlanItem it;
@@ -50,7 +46,7 @@ TEST_CASE("planner: Oren-Nayar with sigma 0 and Minnaert at its Lambert k become
     o.tolerance = 0.5;
     for (const Material& m : {mat("oren_nayar", {{"sigma", 0.0}}), mat("minnaert_1941", {{"k", 1.0}}),
                               mat("phong", {{"ks", 0.0}})}) {
-        const Plan p = make_plan(runtime(), sphere_scene(m), o);
+        const Plan p = make_plan(test::runtime(), sphere_scene(m), o);
         print(m.model.c_str(), p, o);
         INFO(m.model << ": chosen " << p.chosen.config.label());
         // The Lambert configuration is an exact equivalent here: its error is float rounding only.
@@ -79,7 +75,7 @@ TEST_CASE("planner: a light behind every surface is compiled out", "[plan]") {
     in.lights = {Light{Light::Type::Directional, {0.2, 0.1, 1.0}, {1, 1, 1}, 1.0, 0.0},
                  Light{Light::Type::Directional, {0.0, 0.3, -1.0}, {1, 0, 0}, 5.0, 0.0}};
     PlanOptions o;
-    const Plan p = make_plan(runtime(), in, o);
+    const Plan p = make_plan(test::runtime(), in, o);
     print("light behind", p, o);
     REQUIRE(p.dropped_lights.size() == 1);
     CHECK(p.dropped_lights[0].find("light 2") != std::string::npos);
@@ -88,7 +84,7 @@ TEST_CASE("planner: a light behind every surface is compiled out", "[plan]") {
 
     // For Half-Lambert the same light does reach the surface (wrap lighting): it must be kept.
     in.items[0].material = mat("half_lambert");
-    const Plan q = make_plan(runtime(), in, o);
+    const Plan q = make_plan(test::runtime(), in, o);
     CHECK(q.dropped_lights.empty());
 }
 
@@ -96,7 +92,7 @@ TEST_CASE("planner: where nothing cheaper is within tolerance it keeps the reque
     // A rough Oren-Nayar sphere with a tolerance far below what Lambert or Gouraud can reach.
     PlanOptions o;
     o.tolerance = 0.05;
-    const Plan p = make_plan(runtime(), sphere_scene(mat("oren_nayar", {{"sigma", 1.2}})), o);
+    const Plan p = make_plan(test::runtime(), sphere_scene(mat("oren_nayar", {{"sigma", 1.2}})), o);
     print("rough oren-nayar, tight tolerance", p, o);
     CHECK_FALSE(p.chosen.config.simplify_to_lambert);
     CHECK_FALSE(p.chosen.config.per_vertex);
@@ -108,7 +104,7 @@ TEST_CASE("planner: where nothing cheaper is within tolerance it keeps the reque
 TEST_CASE("planner: verification at reduced size is stated - speed-ups are measured", "[plan]") {
     PlanOptions o;
     o.verify_pixels = 64 * 64;
-    const Plan p = make_plan(runtime(), sphere_scene(mat("oren_nayar", {{"sigma", 0.0}}), 3, 160), o);
+    const Plan p = make_plan(test::runtime(), sphere_scene(mat("oren_nayar", {{"sigma", 0.0}}), 3, 160), o);
     CHECK(p.verify_width == 64);
     bool stated = false;
     for (const auto& n : p.notes) stated = stated || n.find("reduced from 160x160") != std::string::npos;
@@ -125,7 +121,7 @@ TEST_CASE("planner: coarser icosphere levels are tried for analytic spheres", "[
     in.items[0].icosphere_level = 5;
     PlanOptions o;
     o.tolerance = 1000.0;   // anything goes: the cheapest measured configuration must win
-    const Plan p = make_plan(runtime(), in, o);
+    const Plan p = make_plan(test::runtime(), in, o);
     print("icosphere levels", p, o);
     bool tried_lower = false;
     for (const auto& c : p.candidates) tried_lower = tried_lower || (c.config.icosphere_level >= 0 && c.config.icosphere_level < 5);
@@ -145,7 +141,7 @@ TEST_CASE("planner: on every bundled scene the chosen plan's measured error is w
         o.tolerance = 1.0;
         o.verify_pixels = 128 * 128;
         o.timing_repeats = 1;
-        const Plan p = make_plan(runtime(), in, o);
+        const Plan p = make_plan(test::runtime(), in, o);
         INFO(e.path().string() << ": chosen " << p.chosen.config.label() << ", error " << p.chosen.error);
         CHECK(p.chosen.within);
         CHECK(p.chosen.error <= o.tolerance);
@@ -168,11 +164,11 @@ TEST_CASE("batch --tolerance plans each job and shades with the choice, within t
     o.progress = ProgressStyle::Quiet;
     o.log = &log;
     o.out_dir = (dir / "plain").string();
-    const BatchSummary plain = run_batch(o, runtime());
+    const BatchSummary plain = run_batch(o, test::runtime());
     REQUIRE(plain.failed == 0);
     o.out_dir = (dir / "planned").string();
     o.tolerance = 1.0;
-    const BatchSummary planned = run_batch(o, runtime());
+    const BatchSummary planned = run_batch(o, test::runtime());
     REQUIRE(planned.failed == 0);
     REQUIRE(planned.jobs.size() == 1);
     bool noted = false;

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
 #include "shade/shader.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 namespace fs = std::filesystem;
@@ -26,12 +27,6 @@ struct ScopedEnv {
     }
     ~ScopedEnv() { had ? (void)setenv(name.c_str(), old.c_str(), 1) : (void)unsetenv(name.c_str()); }
 };
-
-fs::path temp_dir(const std::string& name) {
-    fs::path p = fs::temp_directory_path() / ("shadelab-test-" + name + "-" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-}
 }  // namespace
 
 TEST_CASE("runtime picks the PoCL CPU device by default", "[runtime]") {
@@ -73,7 +68,7 @@ TEST_CASE("runtime reports a missing kernel folder with the places it looked", "
 }
 
 TEST_CASE("a kernel build failure carries the build log, the options and the device", "[runtime]") {
-    const fs::path dir = temp_dir("badkernel");
+    const fs::path dir = test::scratch_dir("badkernel");
     {
         std::ofstream f(dir / "shade.cl");
         f << "// line 1\n__kernel void broken(__global float* x) {\n  x[0] = undeclared_name;\n}\n";

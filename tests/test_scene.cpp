@@ -12,32 +12,17 @@
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
 #include "scene/scene.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kScenes = std::string(SHADELAB_SOURCE_DIR) + "/scenes";
-const std::string kMeshes = SHADELAB_MESH_DIR;
-const std::string kData = SHADELAB_TEST_DATA_DIR;
 
-// A private folder for the scene files these tests write.
-// Removed when the test process ends.
-struct TempDir {
-    fs::path path;
-    TempDir() : path(fs::temp_directory_path() / ("shadelab_test_scene_" + std::to_string(::getpid()))) {
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
+// A private folder for the scene files these tests write, removed when the test process ends.
 const fs::path& scratch() {
-    static const TempDir dir;
-    return dir.path;
+    static const fs::path dir = test::scratch_dir("scene");
+    return dir;
 }
 
 std::string write_scene(const std::string& name, const std::string& text) {
@@ -49,7 +34,7 @@ std::string write_scene(const std::string& name, const std::string& text) {
 // A valid scene around one mesh entry, with `mesh_extra` spliced into the mesh object and `top_extra`
 // into the top level, so each error case changes one thing.
 std::string scene_text(const std::string& mesh_extra = "", const std::string& top_extra = "") {
-    return "{ \"meshes\": [ { \"path\": \"" + kData + "/scene_quad.obj\"" + mesh_extra + " } ]" + top_extra + " }";
+    return "{ \"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\"" + mesh_extra + " } ]" + top_extra + " }";
 }
 
 std::string error_of(const std::string& file, const SceneLoadOptions& opt = {}) {
@@ -64,7 +49,7 @@ std::string error_of(const std::string& file, const SceneLoadOptions& opt = {}) 
 
 TEST_CASE("every example scene in scenes/ loads and validates", "[scene]") {
     std::size_t n = 0;
-    for (const auto& e : fs::directory_iterator(kScenes)) {
+    for (const auto& e : fs::directory_iterator(test::kScenes)) {
         if (e.path().extension() != ".json") continue;
         INFO(e.path().string());
         Scene s;
@@ -77,10 +62,10 @@ TEST_CASE("every example scene in scenes/ loads and validates", "[scene]") {
     }
     CHECK(n >= 6);
     // Templates take their mesh from the command line.
-    for (const auto& e : fs::directory_iterator(kScenes + "/templates")) {
+    for (const auto& e : fs::directory_iterator(test::kScenes + "/templates")) {
         INFO(e.path().string());
         SceneLoadOptions opt;
-        opt.mesh_override = kMeshes + "/teapot.obj";
+        opt.mesh_override = test::kMeshes + "/teapot.obj";
         Scene s;
         REQUIRE_NOTHROW(s = load_scene(e.path().string(), opt));
         CHECK(s.name == "teapot");
@@ -156,7 +141,7 @@ TEST_CASE("schema errors name the file and the field", "[scene]") {
 TEST_CASE("keys starting with an underscore are comments - JSON comments are allowed", "[scene]") {
     const std::string file = write_scene(
         "comments.json", "// a comment line\n{ \"_comment\": \"free text\", \"meshes\": [ { \"_note\": 1, \"path\": \"" +
-                             kData + "/scene_quad.obj\" } ], \"outputs\": { \"_why\": \"x\", \"png\": \"a.png\" } }");
+                             test::kData + "/scene_quad.obj\" } ], \"outputs\": { \"_why\": \"x\", \"png\": \"a.png\" } }");
     Scene s;
     REQUIRE_NOTHROW(s = load_scene(file));
     CHECK(s.outputs.png == (fs::path("out") / "a.png").string());
@@ -165,7 +150,7 @@ TEST_CASE("keys starting with an underscore are comments - JSON comments are all
 TEST_CASE("parsed values: defaults, transform order, lights, outputs, names", "[scene]") {
     const std::string file = write_scene(
         "values.json",
-        "{ \"meshes\": [ { \"path\": \"" + kData + "/scene_quad.obj\", "
+        "{ \"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\", "
         "\"transform\": { \"translate\": [1, 2, 3], \"rotate\": [0, 90, 0], \"scale\": 2 } } ], "
         "\"lights\": [ { \"type\": \"point\", \"position\": [0, 1, 0], \"color\": [0.5, 0.25, 1], \"intensity\": 4, \"range\": 10 } ], "
         "\"background\": [0.1, 0.2, 0.3], "
@@ -258,7 +243,7 @@ TEST_CASE("template mode replaces the single mesh and names the job after it", "
     const std::string tmpl = write_scene("tmpl.json", "{ \"meshes\": [ { \"material\": { \"model\": \"lambert\" } } ], "
                                                       "\"outputs\": { \"png\": \"t/{mesh}.png\" } }");
     SceneLoadOptions opt;
-    opt.mesh_override = kMeshes + "/suzanne.obj";
+    opt.mesh_override = test::kMeshes + "/suzanne.obj";
     const Scene s = load_scene(tmpl, opt);
     CHECK(s.name == "suzanne");
     CHECK(s.outputs.png == (fs::path("out") / "t" / "suzanne.png").string());

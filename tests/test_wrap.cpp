@@ -16,21 +16,11 @@
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
 #include "shade/shader.hpp"
-#include "sweep.hpp"
+#include "support.hpp"
 
 using namespace shadelab;
 
 namespace {
-
-Runtime& runtime() {
-    static Runtime rt;
-    return rt;
-}
-
-const test::DirectionSweep& sweep() {
-    static const test::DirectionSweep s = test::make_sweep(120000);
-    return s;
-}
 
 constexpr double kU = 0x1p-24;   // unit roundoff of float
 // |float dot(a, b) - dot(a, b)| for unit float vectors: three products and two sums, gamma_3 <= 3u,
@@ -42,15 +32,6 @@ constexpr double kTightRel = 2e-6;
 constexpr double kValueFloor = 1e-3;   // "not tiny"
 // Well conditioned: the value moves by at most 1e-6 relative when NoL moves by kDeltaNoL.
 constexpr double kCondRel = 1e-6;
-
-Material make(const std::string& model, std::map<std::string, double> params = {},
-              glm::dvec3 albedo = {0.9, 0.5, 0.25}) {
-    Material m;
-    m.model = model;
-    m.params = std::move(params);
-    m.albedo = albedo;
-    return resolve_material(m);
-}
 
 std::string describe(const Material& m) {
     std::string s = m.model;
@@ -75,58 +56,32 @@ glm::dvec3 nol_sensitivity(const Material& m, const glm::dvec3& N, const glm::dv
     return glm::max(glm::abs(up - r), glm::abs(dn - r));
 }
 
-struct SweepResult {
-    double max_abs = 0.0, max_rel = 0.0, max_rel_cond = 0.0, worst_ratio = 0.0;
-    std::size_t cond = 0, rest = 0, non_finite = 0, tight_fail = 0, rest_fail = 0, worst = 0;
-};
-
-SweepResult check_sweep(const Material& m) {
-    const auto& s = sweep();
-    Shader shader(runtime());
-    const auto out = shader.eval_directions(m, s.N, s.L, s.V, s.P);
-    SweepResult e;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        const glm::dvec3 r = ref::eval_material(s.dN[i], s.dL[i], s.dV[i], s.dP[i], m);
-        const glm::dvec3 B = nol_sensitivity(m, s.dN[i], s.dL[i], s.dV[i], s.dP[i], r);
-        for (int c = 0; c < 3; ++c) {
-            const double k = out[3 * i + std::size_t(c)];
-            if (!std::isfinite(k)) { ++e.non_finite; continue; }
-            const double err = std::abs(k - r[c]), mag = std::abs(r[c]);
-            e.max_abs = std::max(e.max_abs, err);
-            if (mag >= kValueFloor) e.max_rel = std::max(e.max_rel, err / mag);
-            if (mag >= kValueFloor && B[c] <= kCondRel * mag) {
-                ++e.cond;
-                e.max_rel_cond = std::max(e.max_rel_cond, err / mag);
-                if (err > kTightRel * mag) { ++e.tight_fail; e.worst = i; }
-            } else {
-                ++e.rest;
-                const double allowed = kTightRel * (mag + B[c]) + B[c];   // rounding relative to |r| + B
-                if (allowed > 0.0) e.worst_ratio = std::max(e.worst_ratio, err / allowed);
-                if (err > allowed) { ++e.rest_fail; e.worst = i; }
-            }
-        }
-    }
-    return e;
+// The kernel over the standard sweep against the reference, with the NoL sensitivity as the input bound.
+test::ConditionedStats check_sweep(const Material& m) {
+    const auto& s = test::sweep();
+    return test::conditioned_sweep(m, {kTightRel, kValueFloor, kCondRel, 0.0}, [&](std::size_t i, const glm::dvec3& r) {
+        return nol_sensitivity(m, s.dN[i], s.dL[i], s.dV[i], s.dP[i], r);
+    });
 }
 
 }  // namespace
 
 TEST_CASE("wrap kernels match the double references over the sphere and the parameter grid", "[wrap][kernel]") {
-    std::vector<Material> grid = {make("half_lambert"), make("half_lambert_seed001")};
+    std::vector<Material> grid = {test::material("half_lambert"), test::material("half_lambert_seed001")};
     for (double a : {0.5, 0.75, 1.0}) {
-        grid.push_back(make("wrap", {{"wrap_value", a}}));
-        grid.push_back(make("wrap_seed001", {{"wrap_value", a}}));
+        grid.push_back(test::material("wrap", {{"wrap_value", a}}));
+        grid.push_back(test::material("wrap_seed001", {{"wrap_value", a}}));
     }
-    for (double w : {0.0, 0.5, 1.0}) grid.push_back(make("wrap_energy", {{"w", w}}));
-    std::cout << "wrap kernels vs double reference, " << sweep().size() << " triples; conditioned: |ref| >= "
+    for (double w : {0.0, 0.5, 1.0}) grid.push_back(test::material("wrap_energy", {{"w", w}}));
+    std::cout << "wrap kernels vs double reference, " << test::sweep().size() << " triples; conditioned: |ref| >= "
               << kValueFloor << " and a " << kDeltaNoL << " change of NoL moves it <= " << kCondRel << " relative\n";
     for (const Material& m : grid) {
-        const SweepResult e = check_sweep(m);
+        const test::ConditionedStats e = check_sweep(m);
         std::cout << "  " << std::left << std::setw(36) << describe(m) << std::right << " max abs " << std::setw(10)
                   << e.max_abs << "  max rel " << std::setw(10) << e.max_rel << "  conditioned: " << e.cond
                   << " values, max rel " << e.max_rel_cond << "; rest: " << e.rest << " values, max err/bound "
                   << e.worst_ratio << "\n";
-        const auto& s = sweep();
+        const auto& s = test::sweep();
         INFO(describe(m) << ": worst triple " << e.worst << " (" << s.kind[e.worst] << ") N.L = "
                          << glm::dot(s.dN[e.worst], s.dL[e.worst]));
         CHECK(e.non_finite == 0);
@@ -138,14 +93,14 @@ TEST_CASE("wrap kernels match the double references over the sphere and the para
 
 TEST_CASE("wrap identities: w = 0.5 is half-Lambert, wrap_energy(0) is Lambert, wrap(1) is max(0, NoL)^2",
           "[wrap][kernel][identity]") {
-    const auto& s = sweep();
-    Shader shader(runtime());
+    const auto& s = test::sweep();
+    Shader shader(test::runtime());
     auto run = [&](const Material& m) { return shader.eval_directions(m, s.N, s.L, s.V, s.P); };
-    const auto half = run(make("half_lambert"));
-    const auto w05 = run(make("wrap", {{"wrap_value", 0.5}}));
-    const auto lam = run(make("lambert"));
-    const auto e0 = run(make("wrap_energy", {{"w", 0.0}}));
-    const auto w1 = run(make("wrap", {{"wrap_value", 1.0}}));
+    const auto half = run(test::material("half_lambert"));
+    const auto w05 = run(test::material("wrap", {{"wrap_value", 0.5}}));
+    const auto lam = run(test::material("lambert"));
+    const auto e0 = run(test::material("wrap_energy", {{"w", 0.0}}));
+    const auto w1 = run(test::material("wrap", {{"wrap_value", 1.0}}));
     const glm::dvec3 albedo{0.9, 0.5, 0.25};
     double d_half = 0.0, d_lam = 0.0, d_sq = 0.0;
     for (std::size_t i = 0; i < half.size(); ++i) {
@@ -165,8 +120,8 @@ TEST_CASE("wrap identities: w = 0.5 is half-Lambert, wrap_energy(0) is Lambert, 
     CHECK(d_sq <= 8 * kU);
     // In the references the identities are exact up to double rounding, for every triple.
     double r_half = 0.0, r_lam = 0.0;
-    const Material mh = make("half_lambert"), mw = make("wrap", {{"wrap_value", 0.5}});
-    const Material ml = make("lambert"), me = make("wrap_energy", {{"w", 0.0}});
+    const Material mh = test::material("half_lambert"), mw = test::material("wrap", {{"wrap_value", 0.5}});
+    const Material ml = test::material("lambert"), me = test::material("wrap_energy", {{"w", 0.0}});
     for (std::size_t i = 0; i < s.size(); ++i) {
         const auto& N = s.dN[i];
         const auto& L = s.dL[i];
@@ -181,7 +136,7 @@ TEST_CASE("wrap identities: w = 0.5 is half-Lambert, wrap_energy(0) is Lambert, 
 
 TEST_CASE("wrap closed-form values: half-Lambert is 0 at NoL = -1, terminators of the two wraps coincide",
           "[wrap][kernel][identity]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const glm::dvec3 white{1.0, 1.0, 1.0};
     // (model, params, NoL, hand-computed value)
     struct Spot { const char* model; std::map<std::string, double> p; double NoL, expect; };
@@ -209,7 +164,7 @@ TEST_CASE("wrap closed-form values: half-Lambert is 0 at NoL = -1, terminators o
         P.insert(P.end(), {0.0f, 0.0f, 0.0f});
     }
     for (std::size_t i = 0; i < spots.size(); ++i) {
-        const Material m = make(spots[i].model, spots[i].p, white);
+        const Material m = test::material(spots[i].model, spots[i].p, white);
         const auto out = shader.eval_directions(m, N, L, V, P);
         const double ref = ref::eval_material({0, 0, 1}, light_at(spots[i].NoL), {0, 0, 1}, {}, m).x;
         INFO(describe(m) << " at NoL = " << spots[i].NoL << ": kernel " << out[3 * i] << ", reference " << ref
@@ -220,7 +175,7 @@ TEST_CASE("wrap closed-form values: half-Lambert is 0 at NoL = -1, terminators o
     // The squared wrap with wrap_value a and Fd_Wrap with w = (1 - a) / a vanish from the same NoL on.
     for (double a : {0.5, 0.6, 0.75, 0.9, 1.0}) {
         const double t = -(1.0 - a) / a;
-        const Material ms = make("wrap", {{"wrap_value", a}}, white), me = make("wrap_energy", {{"w", -t}}, white);
+        const Material ms = test::material("wrap", {{"wrap_value", a}}, white), me = test::material("wrap_energy", {{"w", -t}}, white);
         const glm::dvec3 Nz{0, 0, 1};
         auto val = [&](const Material& m, double x) { return ref::eval_material(Nz, light_at(x), Nz, {}, m).x; };
         INFO("wrap_value " << a << ": terminator at NoL = " << t);
@@ -234,12 +189,12 @@ TEST_CASE("wrap closed-form values: half-Lambert is 0 at NoL = -1, terminators o
 }
 
 TEST_CASE("wrap seed variants: measured deviation of the NoL-clamped forms from the references", "[wrap][seed]") {
-    const auto& s = sweep();
-    Shader shader(runtime());
+    const auto& s = test::sweep();
+    Shader shader(test::runtime());
     std::cout << "wrap seed variants vs references over " << s.size() << " triples (albedo 0.9 in red):\n";
     for (double a : {0.5, 0.75, 1.0}) {
-        const Material ref_m = a == 0.5 ? make("half_lambert") : make("wrap", {{"wrap_value", a}});
-        const Material seed_m = a == 0.5 ? make("half_lambert_seed001") : make("wrap_seed001", {{"wrap_value", a}});
+        const Material ref_m = a == 0.5 ? test::material("half_lambert") : test::material("wrap", {{"wrap_value", a}});
+        const Material seed_m = a == 0.5 ? test::material("half_lambert_seed001") : test::material("wrap_seed001", {{"wrap_value", a}});
         const auto kr = shader.eval_directions(ref_m, s.N, s.L, s.V, s.P);
         const auto ks = shader.eval_directions(seed_m, s.N, s.L, s.V, s.P);
         double max_dev = 0.0, front_dev = 0.0, sum_back = 0.0;
@@ -279,15 +234,15 @@ TEST_CASE("wrap directional albedo matches the closed forms - only wrap_energy c
     };
     const glm::dvec3 white{1, 1, 1};
     struct Row { Material m; double hemi, sphere; };
-    std::vector<Row> rows = {{make("half_lambert", {}, white), 7.0 / 6.0, 4.0 / 3.0},
-                             {make("half_lambert_seed001", {}, white), 7.0 / 6.0, 7.0 / 6.0 + 0.5}};
+    std::vector<Row> rows = {{test::material("half_lambert", {}, white), 7.0 / 6.0, 4.0 / 3.0},
+                             {test::material("half_lambert_seed001", {}, white), 7.0 / 6.0, 7.0 / 6.0 + 0.5}};
     for (double a : {0.5, 0.75, 1.0}) {
         const double hemi = 2.0 * (1.0 - std::pow(1.0 - a, 3.0)) / (3.0 * a);
-        rows.push_back({make("wrap", {{"wrap_value", a}}, white), hemi, 2.0 / (3.0 * a)});
-        rows.push_back({make("wrap_seed001", {{"wrap_value", a}}, white), hemi, hemi + 2.0 * (1.0 - a) * (1.0 - a)});
+        rows.push_back({test::material("wrap", {{"wrap_value", a}}, white), hemi, 2.0 / (3.0 * a)});
+        rows.push_back({test::material("wrap_seed001", {{"wrap_value", a}}, white), hemi, hemi + 2.0 * (1.0 - a) * (1.0 - a)});
     }
     for (double w : {0.0, 0.25, 0.5, 1.0})
-        rows.push_back({make("wrap_energy", {{"w", w}}, white), (1.0 + 2.0 * w) / ((1.0 + w) * (1.0 + w)), 1.0});
+        rows.push_back({test::material("wrap_energy", {{"w", w}}, white), (1.0 + 2.0 * w) / ((1.0 + w) * (1.0 + w)), 1.0});
     std::map<std::string, double> worst_hemi;
     std::cout << "wrap directional albedo (albedo 1), numerical vs closed form:\n";
     for (const Row& r : rows) {
@@ -316,14 +271,14 @@ TEST_CASE("wrap models are not reciprocal (flags say so) - wrap_energy at w = 0 
     for (const char* name : {"half_lambert", "half_lambert_seed001", "wrap", "wrap_seed001", "wrap_energy"}) {
         INFO(name);
         CHECK_FALSE(find_model(name).reciprocal);
-        CHECK(asym(make(name, {}, white)) > 0.1);
+        CHECK(asym(test::material(name, {}, white)) > 0.1);
     }
-    CHECK(asym(make("wrap_energy", {{"w", 0.0}}, white)) < 1e-15);
+    CHECK(asym(test::material("wrap_energy", {{"w", 0.0}}, white)) < 1e-15);
 }
 
 TEST_CASE("wrap kernels at the edge points: NoL = -1, NoL just beyond +-1 (float unit vectors), invalid input",
           "[wrap][stability]") {
-    Shader shader(runtime());
+    Shader shader(test::runtime());
     const float below = -1.0000001f, above = 1.0000001f;
     // N = +z; L = -z (exactly behind), L = (0, 0, -1 - 1ulp), (0, 0, 1 + 1ulp), grazing, zero vector.
     const std::vector<float> N = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
@@ -331,8 +286,8 @@ TEST_CASE("wrap kernels at the edge points: NoL = -1, NoL just beyond +-1 (float
     const std::vector<float> V = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
     const std::vector<float> P(N.size(), 0.0f);
     const char* what[] = {"NoL = -1", "NoL = -1 - 1ulp", "NoL = 1 + 1ulp", "NoL = 0", "L = 0"};
-    for (const Material& m : {make("half_lambert"), make("half_lambert_seed001"), make("wrap", {{"wrap_value", 0.75}}),
-                              make("wrap_seed001", {{"wrap_value", 1.0}}), make("wrap_energy", {{"w", 1.0}})}) {
+    for (const Material& m : {test::material("half_lambert"), test::material("half_lambert_seed001"), test::material("wrap", {{"wrap_value", 0.75}}),
+                              test::material("wrap_seed001", {{"wrap_value", 1.0}}), test::material("wrap_energy", {{"w", 1.0}})}) {
         const auto out = shader.eval_directions(m, N, L, V, P);
         std::cout << "  " << std::left << std::setw(32) << describe(m) << std::right;
         for (std::size_t i = 0; i < 5; ++i) {
@@ -344,7 +299,7 @@ TEST_CASE("wrap kernels at the edge points: NoL = -1, NoL just beyond +-1 (float
         }
         std::cout << "\n";
     }
-    const auto hl = shader.eval_directions(make("half_lambert"), N, L, V, P);
+    const auto hl = shader.eval_directions(test::material("half_lambert"), N, L, V, P);
     CHECK(hl[0] == 0.0f);                // exactly 0 with the light exactly behind
     CHECK(hl[3] < 1e-13f);               // (0.5 (-1 - 1ulp) + 0.5)^2 ~ 4e-15: not clamped, not visible
     CHECK(hl[12] == Approx(0.9 * 0.25).epsilon(1e-7));   // L = 0: NoL = 0, finite

@@ -1,7 +1,5 @@
 #include "image/fits.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -12,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -254,27 +253,13 @@ void write_fits(const std::string& path, const Image& img, const std::map<std::s
     }
     data.resize((data.size() + kBlock - 1) / kBlock * kBlock, 0);
 
-    const fs::path target(path);
-    std::error_code ec;
-    if (target.has_parent_path() && !fs::exists(target.parent_path(), ec)) {
-        fs::create_directories(target.parent_path(), ec);
-        if (ec) throw Error("cannot create folder '" + target.parent_path().string() + "' for '" + path + "': " + ec.message());
-    }
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-    {
+    write_file_atomically(path, "image", [&](const std::string& tmp, std::string&) {
         std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
         out.write(header.data(), std::streamsize(header.size()));
         out.write(reinterpret_cast<const char*>(data.data()), std::streamsize(data.size()));
-        if (!out.flush()) {
-            fs::remove(tmp, ec);
-            throw Error("writing '" + path + "' failed (is the disk full or the folder read-only?)");
-        }
-    }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("cannot move the finished image into place at '" + path + "': " + ec.message());
-    }
+        out.close();
+        return bool(out);
+    });
 }
 
 Image read_any_image(const std::string& path, std::map<std::string, std::string>* fits_keywords) {

@@ -1,7 +1,5 @@
 #include "image/image.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -10,6 +8,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "image/fits.hpp"
 
@@ -59,25 +58,12 @@ Encoding encoding_for(const std::string& path) {
                 " (also .jpg .bmp .tga .webp .hdr .tif .fits .pfm)");
 }
 
-void write_image(const std::string& path, const Image& img) {
-    // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
-    if (is_fits_path(path)) return write_fits(path, img);
-    const Encoding enc = encoding_for(path);
-    std::size_t bad = 0;
-    for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
-    if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
+namespace {
 
-    const fs::path target(path);
-    std::error_code ec;
-    if (target.has_parent_path() && !fs::exists(target.parent_path(), ec)) {
-        fs::create_directories(target.parent_path(), ec);
-        if (ec) throw Error("cannot create folder '" + target.parent_path().string() + "' for '" + path + "': " + ec.message());
-    }
-    // Same folder (rename stays atomic), same extension (OpenImageIO picks the format from it).
-    const fs::path tmp = target.parent_path() /
-                         ("." + target.stem().string() + ".tmp" + std::to_string(::getpid()) + target.extension().string());
-
-    auto out = OIIO::ImageOutput::create(tmp.string());
+// Encodes `img` into `file` with OpenImageIO (8-bit sRGB or linear float, as `enc` says). Returns false with
+// OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s format.
+bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc, std::string& why) {
+    auto out = OIIO::ImageOutput::create(file);
     if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
     OIIO::ImageSpec spec(img.width, img.height, img.channels,
                          enc == Encoding::Srgb8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
@@ -88,7 +74,7 @@ void write_image(const std::string& path, const Image& img) {
     // divide by alpha (EXR keeps OpenImageIO's associated convention; covered pixels have alpha 1 anyway).
     if (enc == Encoding::Srgb8) spec.attribute("oiio:UnassociatedAlpha", 1);
 
-    bool ok = out->open(tmp.string(), spec);
+    bool ok = out->open(file, spec);
     if (ok) {
         if (enc == Encoding::Srgb8) {
             std::vector<unsigned char> px(img.pixels.size());
@@ -103,16 +89,23 @@ void write_image(const std::string& path, const Image& img) {
         }
         ok = out->close() && ok;
     }
-    if (!ok) {
-        const std::string why = out->geterror();
-        fs::remove(tmp, ec);
-        throw Error("writing '" + path + "' failed: " + why + " (is the disk full or the folder read-only?)");
-    }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("cannot move the finished image into place at '" + path + "': " + ec.message());
-    }
+    if (!ok) why = out->geterror();
+    return ok;
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& img) {
+    // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
+    if (is_fits_path(path)) return write_fits(path, img);
+    const Encoding enc = encoding_for(path);
+    std::size_t bad = 0;
+    for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
+    if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
+    // The temporary file keeps the extension: OpenImageIO picks the format from it.
+    write_file_atomically(
+        path, "image", [&](const std::string& tmp, std::string& why) { return write_with_oiio(tmp, path, img, enc, why); },
+        fs::path(path).extension().string());
 }
 
 Image read_image(const std::string& path) {

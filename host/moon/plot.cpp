@@ -11,10 +11,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 
 extern char** environ;
@@ -54,34 +54,17 @@ CsvTable& CsvTable::blank() {
 }
 
 void CsvTable::write(const std::string& path) const {
-    const fs::path target(path);
-    std::error_code ec;
-    if (target.has_parent_path() && !fs::exists(target.parent_path(), ec)) {
-        fs::create_directories(target.parent_path(), ec);
-        if (ec) throw Error("cannot create folder '" + target.parent_path().string() + "' for '" + path + "': " + ec.message());
-    }
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-    {
-        std::ofstream out(tmp);
-        for (std::size_t c = 0; c < columns_.size(); ++c) out << (c ? "," : "") << columns_[c];
+    std::ostringstream out;
+    for (std::size_t c = 0; c < columns_.size(); ++c) out << (c ? "," : "") << columns_[c];
+    out << "\n";
+    for (const auto& r : rows_) {
+        if (r.size() != columns_.size())
+            throw Error("internal: CSV row with " + std::to_string(r.size()) + " fields for " +
+                        std::to_string(columns_.size()) + " columns in '" + path + "'");
+        for (std::size_t c = 0; c < r.size(); ++c) out << (c ? "," : "") << r[c];
         out << "\n";
-        for (const auto& r : rows_) {
-            if (r.size() != columns_.size())
-                throw Error("internal: CSV row with " + std::to_string(r.size()) + " fields for " +
-                            std::to_string(columns_.size()) + " columns in '" + path + "'");
-            for (std::size_t c = 0; c < r.size(); ++c) out << (c ? "," : "") << r[c];
-            out << "\n";
-        }
-        if (!out.flush()) {
-            fs::remove(tmp, ec);
-            throw Error("writing '" + path + "' failed (is the disk full or the folder read-only?)");
-        }
     }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("cannot move the finished table into place at '" + path + "': " + ec.message());
-    }
+    write_text_atomically(path, "table", out.str());
 }
 
 // ------------------------------------------------------------------------------------------ gnuplot

@@ -1,14 +1,11 @@
 // The batch runner (see batch.hpp for the shape of a run).
 #include "scene/batch.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <future>
 #include <iomanip>
 #include <iostream>
@@ -20,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
@@ -516,28 +514,6 @@ BatchSummary Runner::run() {
     return sum;
 }
 
-// Atomic text write, like images: a temporary file in the same folder, then rename.
-void write_text_atomic(const std::string& path, const std::string& text) {
-    const fs::path target(path);
-    std::error_code ec;
-    if (target.has_parent_path()) fs::create_directories(target.parent_path(), ec);
-    const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(::getpid()));
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) {
-            fs::remove(tmp, ec);
-            throw Error("cannot write the report '" + path + "' (is the folder writable?)");
-        }
-    }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error("cannot move the report into place at '" + path + "': " + ec.message());
-    }
-}
-
 std::string csv_field(const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
     std::string q = "\"";
@@ -663,7 +639,7 @@ void write_report_json(const BatchSummary& s, const std::string& path) {
                    {"wait_for_write_ms", s.write_wait_ms},
                    {"programs_built", s.programs_built},
                    {"jobs", jobs}};
-    write_text_atomic(path, doc.dump(2) + "\n");
+    write_text_atomically(path, "report", doc.dump(2) + "\n");
 }
 
 void write_report_csv(const BatchSummary& s, const std::string& path) {
@@ -681,7 +657,7 @@ void write_report_csv(const BatchSummary& s, const std::string& path) {
             << fixed(r.shade_ms, 3) << ',' << fixed(r.write_ms, 3) << ',' << fixed(r.mfrag_per_s(), 3) << ','
             << csv_field(r.error) << '\n';
     }
-    write_text_atomic(path, out.str());
+    write_text_atomically(path, "report", out.str());
 }
 
 }  // namespace shadelab
