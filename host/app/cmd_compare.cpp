@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "core/atomic_file.hpp"
 #include "color/image_compare.hpp"
 #include "image/image.hpp"
 
@@ -45,7 +46,7 @@ void add_compare_command(CLI::App& app) {
                                 {"delta_e2000", {{"mean", d.de_mean}, {"p99", d.de_p99}, {"max", d.de_max}}},
                                 {"relative_error", {{"p99", d.rel_p99}, {"max", d.rel_max}, {"floor", args->rel_floor}}},
                                 {"absolute_error_max", d.abs_max}};
-            std::ofstream(args->json) << j.dump(2) << "\n";
+            write_text_atomically(args->json, "report", j.dump(2) + "\n");
         }
     });
 }

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "plan/planner.hpp"
 #include "scene/scene.hpp"
@@ -56,7 +57,7 @@ void add_plan_command(CLI::App& app) {
                 j["candidates"].push_back({{"config", c.config.label()}, {"de2000_max", c.de_max}, {"de2000_p99", c.de_p99},
                                            {"relative_max", c.rel_max}, {"time_ms", c.time_ms}, {"speedup", c.speedup},
                                            {"within", c.within}});
-            std::ofstream(a->json) << j.dump(2) << "\n";
+            write_text_atomically(a->json, "report", j.dump(2) + "\n");
         }
     });
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
+#include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
@@ -174,11 +176,12 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
     if (!res.labelled) {
         // No usable font: the names go to a legend file beside the image, tile by tile.
         res.legend = fs::path(o.output).replace_extension(".txt").string();
-        std::ofstream legend(res.legend);
+        std::ostringstream legend;
         legend << "contact sheet " << o.output << ": " << cols << " tiles per row, each sphere | "
                << fs::path(o.mesh).filename().string() << "; no TrueType font was found for labels\n";
         for (int i = 0; i < n; ++i)
             legend << "row " << i / cols + 1 << ", column " << i % cols + 1 << ": " << labels[std::size_t(i)] << "\n";
+        write_text_atomically(res.legend, "legend", legend.str());
         log << "contact sheet: no TrueType font found (install fonts-dejavu-core or set SHADELAB_FONT): names in "
             << res.legend << "\n";
     }
