@@ -72,16 +72,21 @@ void CsvTable::write(const std::string& path) const {
 namespace {
 bool executable(const std::string& p) { return ::access(p.c_str(), X_OK) == 0 && !fs::is_directory(p); }
 
-std::string num(double x, int digits = 6) {
+// The column of `col` where column "profile" equals `which`, else NaN (so one CSV feeds both panels).
+std::string where_profile(const std::string& which, const std::string& col) {
+    return "(strcol('profile') eq '" + which + "' ? column('" + col + "') : NaN)";
+}
+}  // namespace
+
+std::string gp_number(double x, int digits) {
     std::ostringstream s;
     s << std::setprecision(digits) << x;
     return s.str();
 }
 
-// Common preamble: pngcairo, CSV with a header line read as column names.
-std::string preamble(const std::string& png, int width, int height) {
+std::string gnuplot_preamble(const std::string& png, int width, int height, int font_size) {
     std::ostringstream s;
-    s << "set terminal pngcairo size " << width << "," << height << " enhanced font 'sans,10'\n"
+    s << "set terminal pngcairo size " << width << "," << height << " enhanced font 'sans," << font_size << "'\n"
       << "set output " << gp_string(png) << "\n"
       << "set datafile separator comma\n"
       << "set datafile columnheaders\n"
@@ -89,12 +94,6 @@ std::string preamble(const std::string& png, int width, int height) {
       << "set grid lc rgb '#dddddd'\n";
     return s.str();
 }
-
-// The column of `col` where column "profile" equals `which`, else NaN (so one CSV feeds both panels).
-std::string where_profile(const std::string& which, const std::string& col) {
-    return "(strcol('profile') eq '" + which + "' ? column('" + col + "') : NaN)";
-}
-}  // namespace
 
 std::string gp_string(const std::string& s) {
     std::string out = "'";
@@ -200,7 +199,7 @@ void run_gnuplot(const std::string& script, const std::string& png, const std::s
 void plot_curves(const std::string& csv, const std::string& png, const std::vector<std::string>& value_columns,
                  const std::vector<std::string>& labels, const std::string& title) {
     std::ostringstream s;
-    s << preamble(png, 900, 900);
+    s << gnuplot_preamble(png, 900, 900);
     s << "set multiplot layout 2,1 title " << gp_string(title) << "\n"
       << "set key top left\nset yrange [0:*]\nset ylabel 'I/F'\n";
     const char* panels[2][2] = {{"equator", "position along the intensity equator (disc radii, + towards the sun)"},
@@ -219,7 +218,7 @@ void plot_curves(const std::string& csv, const std::string& png, const std::vect
 
 void plot_profiles(const std::string& csv, const std::string& png, bool has_model, const std::string& title) {
     std::ostringstream s;
-    s << preamble(png, 1200, has_model ? 900 : 500);
+    s << gnuplot_preamble(png, 1200, has_model ? 900 : 500);
     s << "set multiplot layout " << (has_model ? 2 : 1) << ",2 title " << gp_string(title) << "\n"
       << "set key top left\nset xrange [-1:1]\n";
     const char* names[2] = {"equator", "across"};
@@ -245,12 +244,12 @@ void plot_profiles(const std::string& csv, const std::string& png, bool has_mode
 
 void plot_minnaert(const std::string& csv, const std::string& png, const MinnaertFit& f, const std::string& title) {
     std::ostringstream s;
-    s << preamble(png, 900, 700);
+    s << gnuplot_preamble(png, 900, 700);
     s << "set title " << gp_string(title) << "\n"
       << "set xlabel 'ln(mu mu0)'\nset ylabel 'ln(mu I)'\nset key top left\n"
       << "f(x) = " << std::setprecision(12) << f.ln_B0 << " + " << f.k << " * x\n"
-      << "set label 1 \"k = " << num(f.k) << " +- " << num(f.se_k, 2) << "\\nB0 = " << num(f.B0) << " +- "
-      << num(f.se_B0, 2) << "\\nrms residual " << num(f.rms, 3) << "\\n" << f.used << " pixels\""
+      << "set label 1 \"k = " << gp_number(f.k) << " +- " << gp_number(f.se_k, 2) << "\\nB0 = " << gp_number(f.B0) << " +- "
+      << gp_number(f.se_B0, 2) << "\\nrms residual " << gp_number(f.rms, 3) << "\\n" << f.used << " pixels\""
       << " at graph 0.6, graph 0.25\n"
       << "plot " << gp_string(csv) << " using 'x':'y' with dots lc rgb '#3060c0' title 'pixels', "
       << "f(x) with lines lw 2 lc rgb '#c03030' title 'fit: ln B0 + k ln(mu mu0)'\n";
@@ -260,7 +259,7 @@ void plot_minnaert(const std::string& csv, const std::string& png, const Minnaer
 void plot_errorbars(const std::string& csv, const std::string& png, const std::string& x, const std::string& y,
                     const std::string& e, const std::string& xlabel, const std::string& ylabel, const std::string& title) {
     std::ostringstream s;
-    s << preamble(png, 900, 600);
+    s << gnuplot_preamble(png, 900, 600);
     s << "set title " << gp_string(title) << "\nset xlabel " << gp_string(xlabel) << "\nset ylabel "
       << gp_string(ylabel) << "\nset key top left\nset offsets graph 0.05, graph 0.05, graph 0.1, graph 0.1\n"
       << "plot " << gp_string(csv) << " using " << gp_string(x) << ":" << gp_string(y) << ":" << gp_string(e)
@@ -270,7 +269,7 @@ void plot_errorbars(const std::string& csv, const std::string& png, const std::s
 
 void plot_k_map(const std::string& csv, const std::string& png, int cells, const std::string& title) {
     std::ostringstream s;
-    s << preamble(png, 800, 720);
+    s << gnuplot_preamble(png, 800, 720);
     const double h = 1.0 / cells;   // half cell width in disc radii
     s << "set title " << gp_string(title) << "\n"
       << "set size ratio -1\nset xrange [-1.05:1.05]\nset yrange [-1.05:1.05]\n"
@@ -286,14 +285,14 @@ void plot_geometry(const std::string& png, const SunGeometry& sun, double across
     // Everything in disc radii, x right and y up, as the image is displayed.
     auto P = [&](double a, double b) {   // point a u + b w
         const glm::dvec3 p = a * sun.u + b * sun.w;
-        return num(p.x) + "," + num(p.y);
+        return gp_number(p.x) + "," + gp_number(p.y);
     };
     const double alpha = sun.phase_deg * kDeg;
     std::ostringstream s;
-    s << preamble(png, 800, 800);
+    s << gnuplot_preamble(png, 800, 800);
     s << "unset grid\nset size ratio -1\nset xrange [-1.6:1.6]\nset yrange [-1.6:1.6]\nunset xtics\nunset ytics\n"
       << "unset border\nunset key\n"
-      << "set title " << gp_string("phase " + num(sun.phase_deg) + " deg, position angle " + num(sun.pa_deg) +
+      << "set title " << gp_string("phase " + gp_number(sun.phase_deg) + " deg, position angle " + gp_number(sun.pa_deg) +
                                    " deg (from north towards east)") << "\n";
     // The lit part: the bright limb (the half of the rim towards the sun) closed by the terminator.
     s << "set object 1 polygon from ";
@@ -325,8 +324,8 @@ void plot_geometry(const std::string& png, const SunGeometry& sun, double across
     if (pa > 0.5)
         s << "set object 3 circle at 0,0 size 0.35 arc [90:" << 90.0 + pa << "] fs empty border lc rgb '#d08000' lw 1.5 front\n"
           << "set arrow 8 from 0,0 to 0,0.45 nohead dt 3 lc rgb 'black' front\n"
-          << "set label 6 'pa' at " << num(0.45 * std::cos((90.0 + 0.5 * pa) * kDeg)) << ","
-          << num(0.45 * std::sin((90.0 + 0.5 * pa) * kDeg)) << " center tc rgb '#d08000' front\n";
+          << "set label 6 'pa' at " << gp_number(0.45 * std::cos((90.0 + 0.5 * pa) * kDeg)) << ","
+          << gp_number(0.45 * std::sin((90.0 + 0.5 * pa) * kDeg)) << " center tc rgb '#d08000' front\n";
     // Sub-solar point (seen when phase <= 90) and the sub-observer point (the centre).
     if (sun.phase_deg <= 90.0)
         s << "set label 7 '' at " << P(std::sin(alpha), 0) << " point pt 3 ps 2 lc rgb '#d08000' front\n"

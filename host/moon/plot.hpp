@@ -39,6 +39,13 @@ void run_gnuplot(const std::string& script, const std::string& png, const std::s
 // gnuplot string literal for a file name or a title.
 std::string gp_string(const std::string& s);
 
+// A number for a gnuplot script, with `digits` significant digits.
+std::string gp_number(double x, int digits = 6);
+
+// The preamble every chart shares: pngcairo of width x height with a sans font of `font_size` points, the
+// output file, CSV read with its header line as column names, a light grid.
+std::string gnuplot_preamble(const std::string& png, int width, int height, int font_size = 10);
+
 // --- The charts. Each takes the CSV it draws from (already written) and the PNG to make.
 
 // `moon curve`: two panels, the equator and the across profile; `value_columns` are the CSV column names of the

@@ -66,18 +66,6 @@ Image compose(const Frame& f, const std::vector<std::vector<float>>& planes) {
     return img;
 }
 
-std::vector<float> reference_planes(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
-                                    const glm::dvec3& ambient, const glm::dvec3& eye) {
-    const std::size_t n = fb.size();
-    std::vector<float> out(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
-        const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(eye - P), m, lights, ambient);
-        for (std::size_t c = 0; c < 3; ++c) out[c * n + i] = float(v[int(c)]);
-    }
-    return out;
-}
-
 struct Shaded {
     std::vector<std::vector<float>> planes;
     double time_ms = 0.0;   // kernel device time (+ host interpolation for per-vertex)
@@ -171,7 +159,7 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
     const Frame verify = raster_frame(in, plan.verify_width, plan.verify_height, -1);
     std::vector<std::vector<float>> ref_planes;
     for (std::size_t k = 0; k < verify.fragments.size(); ++k)
-        ref_planes.push_back(reference_planes(verify.fragments[k], in.items[k].material, in.lights, in.ambient, in.camera.eye));
+        ref_planes.push_back(ref::shade_fragments(verify.fragments[k], in.items[k].material, in.lights, in.ambient, in.camera.eye));
     const Image reference = compose(verify, ref_planes);
 
     // The configurations.

@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "core/fragment_buffer.hpp"
 #include "models/material.hpp"
 
 namespace shadelab::ref {
@@ -33,6 +34,12 @@ dvec3 eval_material(const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&
 //   sum_i  colour_i * intensity_i * atten_i(P) * model(N, L_i, V)  +  ambient * albedo
 dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material& m,
                   const std::vector<Light>& lights, const dvec3& ambient);
+
+// shade_point over a whole fragment buffer, viewer at `eye`, on the fragments' float positions and normals:
+// three planes of n floats (all red, then green, then blue), the layout Shader::shade returns. Runs on all
+// hardware threads (at most 8); the result does not depend on the thread count.
+std::vector<float> shade_fragments(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
+                                   const dvec3& ambient, const dvec3& eye);
 
 // Families add their references here (one file each under host/reference/).
 using Table = std::map<std::string, ModelFn>;

@@ -16,22 +16,8 @@ namespace shadelab::speed {
 namespace {
 
 using moon::gp_string;
-
-std::string num(double x, int digits = 6) {
-    std::ostringstream s;
-    s << std::setprecision(digits) << x;
-    return s.str();
-}
-
-// pngcairo, the CSV read with its header line as column names (the same settings as host/moon/plot.cpp).
-std::string gp_header(const std::string& png, int width, int height) {
-    std::ostringstream s;
-    s << "set terminal pngcairo size " << width << "," << height << " enhanced font 'sans,11'\n"
-      << "set output " << gp_string(png) << "\n"
-      << "set datafile separator comma\nset datafile columnheaders\nset datafile missing ''\n"
-      << "set grid lc rgb '#dddddd'\n";
-    return s.str();
-}
+using moon::gnuplot_preamble;
+using moon::gp_number;
 
 // gnuplot double-quoted string: "\n" in `s` becomes a line break; quotes and backslashes are escaped.
 std::string gp_dq(const std::string& s) {
@@ -91,21 +77,21 @@ std::string speed_panel(const std::string& csv, const std::vector<ChartRow>& row
       << "set ylabel " << gp_string(de ? "p99 CIE Delta E 2000 against the double reference (log scale)"
                                        : "max relative error against the double reference (log scale)") << "\n"
       << "set logscale xy\nset format y '10^{%L}'\nset format x '%g'\nset key top left box opaque\n"
-      << "set xrange [" << num(xlo / 3.0) << ":" << num(xhi * 3.0) << "]\nset yrange [" << num(std::pow(10.0, lo_dec))
-      << ":" << num(std::pow(10.0, hi_dec)) << "]\nunset label\nunset arrow\nset style textbox opaque noborder\n";
+      << "set xrange [" << gp_number(xlo / 3.0) << ":" << gp_number(xhi * 3.0) << "]\nset yrange [" << gp_number(std::pow(10.0, lo_dec))
+      << ":" << gp_number(std::pow(10.0, hi_dec)) << "]\nunset label\nunset arrow\nset style textbox opaque noborder\n";
     for (std::size_t k = 0; k < order.size(); ++k) {
         const auto& p = pts[order[k]];
         const double ly = std::pow(10.0, label_dec[k]);
-        s << "set label " << (k + 1) << " " << gp_string(row_label(rows[order[k]].score)) << " at " << num(p.speed, 9)
-          << "," << num(ly, 9) << " center boxed noenhanced font 'sans,10' tc rgb '#a00000' front\n"
-          << "set arrow " << (k + 1) << " from " << num(p.speed, 9) << "," << num(ly, 9) << " to " << num(p.speed, 9)
-          << "," << num(p.error * std::pow(10.0, 0.4 * row), 9) << " nohead lw 0.8 lc rgb '#c08080' back\n";
+        s << "set label " << (k + 1) << " " << gp_string(row_label(rows[order[k]].score)) << " at " << gp_number(p.speed, 9)
+          << "," << gp_number(ly, 9) << " center boxed noenhanced font 'sans,10' tc rgb '#a00000' front\n"
+          << "set arrow " << (k + 1) << " from " << gp_number(p.speed, 9) << "," << gp_number(ly, 9) << " to " << gp_number(p.speed, 9)
+          << "," << gp_number(p.error * std::pow(10.0, 0.4 * row), 9) << " nohead lw 0.8 lc rgb '#c08080' back\n";
     }
     // The front line as an inline data block (the rows whose front_* column is 1, in speed order).
     const std::string block = de ? "$front_de" : "$front_rel";
     // Same layout as the CSV (comma-separated, a header line), since the datafile settings apply to it too.
     s << block << " << EOD\nmfrag_per_s,error\n";
-    for (std::size_t i : order) s << num(pts[i].speed, 9) << "," << num(pts[i].error, 9) << "\n";
+    for (std::size_t i : order) s << gp_number(pts[i].speed, 9) << "," << gp_number(pts[i].error, 9) << "\n";
     s << "EOD\n";
     s << "plot " << gp_string(csv) << " using 'mfrag_per_s':(strcol('mode') eq 'precise' ? column('" << col
       << "') : NaN) with points pt 7 ps 1.1 lc rgb '#3060c0' title 'precise', "
@@ -164,7 +150,7 @@ void plot_speed_accuracy(const std::string& csv, const std::string& png, const s
                          const std::string& subtitle) {
     if (rows.empty()) throw Error("chart: nothing to plot (no model was scored)");
     std::ostringstream s;
-    s << gp_header(png, 1800, 820);
+    s << gnuplot_preamble(png, 1800, 820, 11);
     s << "set multiplot layout 1,2 title "
       << gp_dq("Speed against accuracy: every model x precision mode (precise, fast)\n{/*0.8 " + plain(subtitle) + "}")
       << " font 'sans,14'\n";
@@ -214,7 +200,7 @@ void plot_subdivision(const std::string& csv, const std::string& png, const std:
     }
     static const char* colours[] = {"#3060c0", "#c03030", "#209050", "#9040b0", "#d08000", "#404040"};
     std::ostringstream s;
-    s << gp_header(png, 700 * int(surfaces.size()) + 100, 1000);
+    s << gnuplot_preamble(png, 700 * int(surfaces.size()) + 100, 1000, 11);
     s << "set multiplot layout 2," << surfaces.size() << " columnsfirst title "
       << gp_dq("Error against tessellation, per pixel and per vertex (precise kernels)\n{/*0.8 " + plain(subtitle) + "}")
       << " font 'sans,14'\n";

@@ -68,25 +68,6 @@ ErrorFigures figures_from(const ImageDiff& d) {
     return e;
 }
 
-std::vector<float> reference_planes(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
-                                    const glm::dvec3& ambient, const glm::dvec3& eye) {
-    const std::size_t n = fb.size();
-    std::vector<float> out(3 * n);
-    auto run = [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t i = lo; i < hi; ++i) {
-            const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
-            const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(eye - P), m, lights, ambient);
-            for (std::size_t c = 0; c < 3; ++c) out[c * n + i] = float(v[int(c)]);
-        }
-    };
-    const std::size_t threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-    std::vector<std::thread> pool;
-    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(run, n * t / threads, n * (t + 1) / threads);
-    run(0, n / threads);
-    for (auto& th : pool) th.join();
-    return out;
-}
-
 Scorer::Scorer(Runtime& runtime, std::vector<ScoreView> views, ScoreOptions options)
     : rt_(runtime), shader_(runtime), views_(std::move(views)), opt_(std::move(options)) {
     if (views_.empty()) throw Error("chart: no view to score on (give at least one --mesh)");
@@ -150,7 +131,7 @@ const Image& Scorer::reference_image(const Material& material) {
     auto it = reference_cache_.find(key.str());
     if (it != reference_cache_.end()) return it->second;
     std::vector<std::vector<float>> planes;
-    for (const auto& v : views_) planes.push_back(reference_planes(v.fragments, m, opt_.lights, opt_.ambient, v.camera.eye));
+    for (const auto& v : views_) planes.push_back(ref::shade_fragments(v.fragments, m, opt_.lights, opt_.ambient, v.camera.eye));
     return reference_cache_.emplace(key.str(), atlas(planes)).first->second;
 }
 

@@ -71,10 +71,6 @@ struct ScoreOptions {
     double rel_floor = 1e-3;
 };
 
-// Reference planes (r..., g..., b...) of a fragment buffer: ref::shade_point in double on the fragments'
-// float positions and normals, viewer at `eye`. Runs on all hardware threads.
-std::vector<float> reference_planes(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
-                                    const glm::dvec3& ambient, const glm::dvec3& eye);
 
 class Scorer {
 public:

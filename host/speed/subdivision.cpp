@@ -166,7 +166,7 @@ std::vector<SubdivisionRow> mesh_subdivision(Runtime& rt, const std::string& sur
     std::vector<SubdivisionRow> rows;
     for (const auto& name : models) {
         const Material m = chart_material(name);
-        const Image truth = compose_image(ref_fb, reference_planes(ref_fb, m, o.lights, o.ambient, cam.eye), kTransparent);
+        const Image truth = compose_image(ref_fb, ref::shade_fragments(ref_fb, m, o.lights, o.ambient, cam.eye), kTransparent);
         for (std::size_t i = 0; i < levels.size(); ++i)
             for (bool pv : {false, true}) {
                 const Image k = kernel_render(shader, meshes[i], fbs[i], m, cam, pv, o);
