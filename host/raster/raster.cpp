@@ -5,9 +5,12 @@
 //   outside_frustum     trivial rejection (all three vertices beyond one frustum plane);
 //   clip_polygon        Sutherland-Hodgman against the near plane (and, rarely, a far-off guard band);
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
-//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box;
-//   raster_band         edge functions at pixel centres + depth test into this band's visibility buffer;
-//   emit_band           perspective-correct interpolation for each visible pixel, in pixel order.
+//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box, and
+//                       binning into strips of rows;
+//   raster_band         edge functions at pixel centres + depth test, strip by strip (each strip's depth and
+//                       owner buffers stay in cache), into the visibility buffer (triangle id per pixel);
+//   emit_band           perspective-correct interpolation once per covered pixel, for the triangle that won
+//                       it (deferred resolve), in pixel order.
 // Threads: vertices and triangles are split into contiguous ranges for set-up, and the image into horizontal
 // bands for rasterisation and emission; every per-pixel result is computed the same way whatever the split,
 // so the output is bit-identical for any thread count.
@@ -16,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -213,10 +217,18 @@ struct RasterTri {
 // What emission needs to find a winning triangle's corners again.
 struct ShadeTri {
     std::int32_t mesh_triangle;
-    std::int32_t clip_vertices;  // -1: the corners are the mesh triangle's vertices (in the order 0, 1, 2,
-                                 // or 0, 2, 1 if `swapped`); else index of the three corners, already in
-                                 // screen order, in the chunk's `clipped` array
+    std::int32_t clip_vertices;  // -1: the corners are the mesh triangle's vertices `vertex` (in screen order:
+                                 // the mesh order 0, 1, 2, or 0, 2, 1 if `swapped`); else index of the three
+                                 // corners, already in screen order, in the chunk's `clipped` array
+    std::uint32_t vertex[3];
     bool swapped;
+};
+
+// A mesh vertex as emission reads it, in one place: screen position, 1 / w, world position and normal.
+struct ScreenVertex {
+    glm::dvec2 screen;   // viewport_transform of its clip position
+    double inv_w;
+    glm::dvec3 world, normal;
 };
 
 // Set-up output of one contiguous range of mesh triangles (one per thread), in mesh order.
@@ -239,17 +251,16 @@ enum class Setup { Kept, Culled, Empty };
 // One screen triangle from three clip-space corners (all with w > 0, inside the guard band).
 // `corners`, when the triangle came out of the clipper, are kept for emission; otherwise the corners are
 // the mesh triangle's own vertices.
-Setup setup_triangle(const glm::dvec4 c[3], const ClipVertex* corners, const Frame& f, std::int32_t mesh_triangle,
-                     Chunk& out) {
+// `mesh_vertices` are the mesh triangle's vertex indices when the corners are its own vertices (else null).
+Setup setup_triangle(const glm::dvec4 c[3], const glm::dvec2 screen[3], const ClipVertex* corners,
+                     const std::uint32_t* mesh_vertices, const Frame& f, std::int32_t mesh_triangle, Chunk& out) {
     RasterTri r;
-    double z[3];
     for (int k = 0; k < 3; ++k) {
-        const glm::dvec2 p = viewport_transform(c[k], f.width, f.height);
+        const glm::dvec2& p = screen[k];   // viewport_transform(c[k])
         // The guard band keeps |p| below ~2^19.1 pixels, so snapped values fit 28 bits and every edge
         // function product fits comfortably in 64 bits.
         r.x[k] = snap(p.x);
         r.y[k] = snap(p.y);
-        z[k] = c[k].z / c[k].w;
     }
     std::int64_t area = edge_function(r.x[0], r.y[0], r.x[1], r.y[1], r.x[2], r.y[2]);
     if (area == 0) return Setup::Empty;   // edge-on after snapping: covers no pixel centre
@@ -260,7 +271,6 @@ Setup setup_triangle(const glm::dvec4 c[3], const ClipVertex* corners, const Fra
     if (front) {   // make every triangle clockwise on screen, so "inside" is edge_function >= 0
         std::swap(r.x[1], r.x[2]);
         std::swap(r.y[1], r.y[2]);
-        std::swap(z[1], z[2]);
         area = -area;
     }
 
@@ -273,6 +283,9 @@ Setup setup_triangle(const glm::dvec4 c[3], const ClipVertex* corners, const Fra
     const std::int64_t min_x = std::max<std::int64_t>(first_x, 0), max_x = std::min<std::int64_t>(last_x, f.width - 1);
     const std::int64_t min_y = std::max<std::int64_t>(first_y, 0), max_y = std::min<std::int64_t>(last_y, f.height - 1);
     if (min_x > max_x || min_y > max_y) return Setup::Empty;
+    // NDC depth of the corners, in screen order (computed only for triangles that cover a pixel centre).
+    const int i1 = front ? 2 : 1, i2 = front ? 1 : 2;
+    const double z[3] = {c[0].z / c[0].w, c[i1].z / c[i1].w, c[i2].z / c[i2].w};
     r.min_x = std::int16_t(min_x);   // image sides are <= 16384
     r.max_x = std::int16_t(max_x);
     r.min_y = std::int16_t(min_y);
@@ -299,6 +312,7 @@ Setup setup_triangle(const glm::dvec4 c[3], const ClipVertex* corners, const Fra
     s.mesh_triangle = mesh_triangle;
     s.clip_vertices = -1;
     s.swapped = front;
+    for (int k = 0; k < 3; ++k) s.vertex[k] = mesh_vertices ? mesh_vertices[front && k > 0 ? 3 - k : k] : 0u;
     if (corners) {
         s.clip_vertices = std::int32_t(out.clipped.size());
         s.swapped = false;
@@ -318,7 +332,8 @@ bool in_guard_band(const glm::dvec4& c, double guard) {
 }
 
 // Clip one mesh triangle and set up the screen triangles it becomes (none, one, or a fan of several).
-void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, std::size_t mt, const Frame& f, Chunk& out) {
+void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const ScreenVertex* sv, std::size_t mt,
+                         const Frame& f, Chunk& out) {
     const glm::u32vec3& tri = mesh.triangles[mt];
     const glm::dvec4 c[3] = {clip[tri[0]], clip[tri[1]], clip[tri[2]]};
     if (outside_frustum(c)) {
@@ -328,7 +343,9 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, std::size_t m
     const bool crosses_near = !near_inside(c[0]) || !near_inside(c[1]) || !near_inside(c[2]);
     if (!crosses_near && in_guard_band(c[0], f.guard) && in_guard_band(c[1], f.guard) && in_guard_band(c[2], f.guard)) {
         // The common case: nothing to clip.
-        if (setup_triangle(c, nullptr, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
+        const glm::dvec2 sc[3] = {sv[tri[0]].screen, sv[tri[1]].screen, sv[tri[2]].screen};
+        const std::uint32_t vi[3] = {tri[0], tri[1], tri[2]};
+        if (setup_triangle(c, sc, nullptr, vi, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
         return;
     }
 
@@ -363,7 +380,9 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, std::size_t m
     for (int k = 1; k + 1 < n; ++k) {
         const ClipVertex fan[3] = {poly[0], poly[k], poly[k + 1]};
         const glm::dvec4 fc[3] = {fan[0].clip, fan[1].clip, fan[2].clip};
-        const Setup r = setup_triangle(fc, fan, f, std::int32_t(mt), out);
+        const glm::dvec2 sc[3] = {viewport_transform(fc[0], f.width, f.height), viewport_transform(fc[1], f.width, f.height),
+                                  viewport_transform(fc[2], f.width, f.height)};
+        const Setup r = setup_triangle(fc, sc, fan, nullptr, f, std::int32_t(mt), out);
         culled += r == Setup::Culled ? 1 : 0;
         kept += r == Setup::Kept ? 1 : 0;
     }
@@ -371,69 +390,120 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, std::size_t m
 }
 
 // ------------------------------------------------------------------------------------------------------
-// Rasterisation into the visibility buffer (depth + winning triangle), one band of rows per thread
+// Rasterisation into the visibility buffer (depth + winning triangle), one band of rows per thread.
 
-struct Visibility {
-    std::unique_ptr<double[]> depth;         // NDC z of the nearest surface so far
-    std::unique_ptr<std::int32_t[]> owner;   // its set-up triangle id, -1 for none
+constexpr int kSpanMinWidth = 12;   // rows at least this wide get their covered span solved per row
+
+// The k in [0, n) with e + step * k >= 0 (one edge function along a row), as [first, last]; empty if first > last.
+void edge_span(std::int64_t e, std::int64_t step, std::int64_t n, std::int64_t& first, std::int64_t& last) {
+    if (step == 0) {
+        if (e < 0) last = -1;
+    } else if (step > 0) {
+        if (e < 0) first = std::max(first, (-e + step - 1) / step);   // ceil(-e / step), both > 0
+    } else {
+        if (e < 0) last = -1;
+        else last = std::min(last, e / -step);                          // floor(e / -step), both >= 0
+    }
+    last = std::min(last, n - 1);
+}
+
+// The visibility buffer of one band as draw_triangle updates it. A pixel's depth is valid only where its
+// owner is >= 0 (no pixel is cleared to +inf: an unowned pixel takes any surface in front of the far plane).
+struct BandBuffer {
+    int width;
+    double* depth;          // NDC z of the nearest surface so far
+    std::int32_t* owner;    // its set-up triangle id, -1 for none
+    glm::ivec2* extent;     // per row: first and one past the last owned pixel (empty when x >= y)
+    std::size_t covered;    // owned pixels
 };
 
-// Rasterises every triangle (ids in mesh order: chunk by chunk) over rows [y_begin, y_end) of the
-// visibility buffer, which this call also initialises (the band's thread touches its memory first).
-// Returns the number of covered pixels in the band.
-std::size_t raster_band(const std::vector<Chunk>& chunks, int width, int y_begin, int y_end, Visibility& vis) {
-    const std::size_t p_begin = std::size_t(y_begin) * std::size_t(width), p_end = std::size_t(y_end) * std::size_t(width);
-    double* const depth = vis.depth.get();
-    std::int32_t* const owner = vis.owner.get();
-    std::fill(depth + p_begin, depth + p_end, std::numeric_limits<double>::infinity());
-    std::fill(owner + p_begin, owner + p_end, -1);
+// Depth test of one covered pixel centre at NDC depth z: far plane (the near plane was clipped), then
+// nearest wins; on an exact tie the earlier, lower-index triangle keeps the pixel (strict <, ids ascending).
+// Tracks the row's owned span [lo, hi].
+inline void depth_test(BandBuffer& b, double* d, std::int32_t* o, int x, double z, std::int32_t tid, int& lo, int& hi) {
+    if (!(z <= 1.0)) return;
+    const std::int32_t prev = o[x];
+    if (prev < 0 || z < d[x]) {
+        d[x] = z;
+        o[x] = tid;
+        b.covered += prev < 0 ? 1 : 0;
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+    }
+}
 
+// Draws triangle `t` (set-up id `tid`) over rows [ya, yb] into the frame's depth and owner buffers.
+// Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in sub-pixels, is
+// E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per pixel in x. A pixel is inside
+// when E_i > 0, or E_i == 0 on a top-left edge; subtracting 1 from the other edges turns both into E_i >= 0
+// (integers). Narrow rows test each pixel; wide rows solve E_i >= 0 for their covered span (the same exact
+// integer inequalities, so the same pixels).
+void draw_triangle(const RasterTri& t, std::int32_t tid, int ya, int yb, BandBuffer& buf) {
+    std::int64_t ax[3], ay[3], dx[3], dy[3], bias[3];
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        ax[i] = t.x[a];
+        ay[i] = t.y[a];
+        dx[i] = std::int64_t(t.x[b]) - t.x[a];
+        dy[i] = std::int64_t(t.y[b]) - t.y[a];
+        bias[i] = (t.top_left >> i) & 1u ? 0 : 1;
+    }
+    const std::int64_t step0 = -dy[0] * kSub, step1 = -dy[1] * kSub, step2 = -dy[2] * kSub;
+    const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
+    const int min_x = t.min_x, max_x = t.max_x;
+    const std::int64_t n = std::int64_t(max_x) - min_x + 1;
+    const std::int64_t cx = std::int64_t(min_x) * kSub + kSub / 2;
+    const double dzdx = t.dzdx;
+    // The edge functions at the first pixel of row ya, then exact integer steps of dx * kSub per row.
+    const std::int64_t cy = std::int64_t(ya) * kSub + kSub / 2;
+    std::int64_t row_e0 = dx[0] * (cy - ay[0]) - dy[0] * (cx - ax[0]) - bias[0];
+    std::int64_t row_e1 = dx[1] * (cy - ay[1]) - dy[1] * (cx - ax[1]) - bias[1];
+    std::int64_t row_e2 = dx[2] * (cy - ay[2]) - dy[2] * (cx - ax[2]) - bias[2];
+    const std::int64_t down0 = dx[0] * kSub, down1 = dx[1] * kSub, down2 = dx[2] * kSub;
+    for (int y = ya; y <= yb; ++y, row_e0 += down0, row_e1 += down1, row_e2 += down2) {
+        std::int64_t e0 = row_e0, e1 = row_e1, e2 = row_e2;
+        // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so it does not
+        // depend on where a band or strip starts.
+        const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
+        double* const d = buf.depth + std::size_t(y) * std::size_t(buf.width);
+        std::int32_t* const o = buf.owner + std::size_t(y) * std::size_t(buf.width);
+        int lo = buf.width, hi = -1;
+        if (n < kSpanMinWidth) {
+            for (int x = min_x; x <= max_x; ++x, e0 += step0, e1 += step1, e2 += step2)
+                if ((e0 | e1 | e2) >= 0) depth_test(buf, d, o, x, zy + dzdx * (double(x) + 0.5 - x0), tid, lo, hi);
+        } else {
+            std::int64_t first = 0, last = n - 1;
+            edge_span(e0, step0, n, first, last);
+            edge_span(e1, step1, n, first, last);
+            edge_span(e2, step2, n, first, last);
+            for (int x = min_x + int(first), xe = min_x + int(last); x <= xe; ++x)
+                depth_test(buf, d, o, x, zy + dzdx * (double(x) + 0.5 - x0), tid, lo, hi);
+        }
+        if (lo <= hi) {
+            glm::ivec2& ext = buf.extent[y];
+            ext = glm::ivec2(std::min(ext.x, lo), std::max(ext.y, hi + 1));
+        }
+    }
+}
+
+// Rasterises every triangle (ids in mesh order: chunk by chunk) over rows [y_begin, y_end) of the visibility
+// buffer (see BandBuffer), which this call also initialises (the band's thread touches the owners first).
+// Returns the number of covered pixels in the band. `extent[y]` gets the first and one past the last
+// covered pixel of row y, so that emission skips the empty parts of each row.
+std::size_t raster_band(const std::vector<Chunk>& chunks, int width, int y_begin, int y_end, double* depth,
+                        std::int32_t* owner, glm::ivec2* extent) {
+    const std::size_t p_begin = std::size_t(y_begin) * std::size_t(width), p_end = std::size_t(y_end) * std::size_t(width);
+    std::fill(owner + p_begin, owner + p_end, -1);
+    std::fill(extent + y_begin, extent + y_end, glm::ivec2(width, 0));
+    BandBuffer buf{width, depth, owner, extent, 0};
     std::int32_t id = 0;
-    for (const Chunk& chunk : chunks) {
+    for (const Chunk& chunk : chunks)
         for (const RasterTri& t : chunk.raster) {
             const std::int32_t tid = id++;
             const int ya = std::max(int(t.min_y), y_begin), yb = std::min(int(t.max_y), y_end - 1);
-            if (ya > yb) continue;
-            // Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in
-            // sub-pixels, is E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per
-            // pixel in x. A pixel is inside when E_i > 0, or E_i == 0 on a top-left edge; subtracting 1
-            // from the other edges turns both into E_i >= 0 (integers), tested with one sign check.
-            std::int64_t ax[3], ay[3], dx[3], dy[3], bias[3];
-            for (int i = 0; i < 3; ++i) {
-                const int a = (i + 1) % 3, b = (i + 2) % 3;
-                ax[i] = t.x[a];
-                ay[i] = t.y[a];
-                dx[i] = std::int64_t(t.x[b]) - t.x[a];
-                dy[i] = std::int64_t(t.y[b]) - t.y[a];
-                bias[i] = (t.top_left >> i) & 1u ? 0 : 1;
-            }
-            const std::int64_t step0 = -dy[0] * kSub, step1 = -dy[1] * kSub, step2 = -dy[2] * kSub;
-            const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
-            const int min_x = t.min_x, max_x = t.max_x;
-            const std::int64_t cx = std::int64_t(min_x) * kSub + kSub / 2;
-            for (int y = ya; y <= yb; ++y) {
-                const std::int64_t cy = std::int64_t(y) * kSub + kSub / 2;
-                std::int64_t e0 = dx[0] * (cy - ay[0]) - dy[0] * (cx - ax[0]) - bias[0];
-                std::int64_t e1 = dx[1] * (cy - ay[1]) - dy[1] * (cx - ax[1]) - bias[1];
-                std::int64_t e2 = dx[2] * (cy - ay[2]) - dy[2] * (cx - ax[2]) - bias[2];
-                const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
-                std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(min_x);
-                for (int x = min_x; x <= max_x; ++x, ++p, e0 += step0, e1 += step1, e2 += step2) {
-                    if ((e0 | e1 | e2) < 0) continue;
-                    // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so
-                    // it does not depend on where a band starts.
-                    const double z = zy + t.dzdx * (double(x) + 0.5 - x0);
-                    // Far plane test (the near plane was clipped). Nearest wins; on an exact tie the
-                    // earlier, lower-index triangle keeps the pixel (strict <).
-                    if (z <= 1.0 && z < depth[p]) {
-                        depth[p] = z;
-                        owner[p] = tid;
-                    }
-                }
-            }
+            if (ya <= yb) draw_triangle(t, tid, ya, yb, buf);
         }
-    }
-    return std::size_t(std::count_if(owner + p_begin, owner + p_end, [](std::int32_t o) { return o >= 0; }));
+    return buf.covered;
 }
 
 // Band boundaries (rows) giving each thread about the same work: the pixels of every triangle's bounding
@@ -465,30 +535,27 @@ std::vector<int> balanced_bands(const std::vector<Chunk>& chunks, int width, int
 }
 
 // ------------------------------------------------------------------------------------------------------
-// Emission
+// Emission: attributes are computed once per covered pixel, for the triangle that won it.
 
-// Screen-space barycentrics of point (px, py) from the unsnapped vertex positions (snapping decides
-// coverage only; attributes are interpolated from the exact positions).
-glm::dvec3 screen_barycentrics(const glm::dvec2 s[3], double px, double py) {
-    auto e = [](const glm::dvec2& a, const glm::dvec2& b, double x, double y) {
-        return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
-    };
-    const double w0 = e(s[1], s[2], px, py);
-    const double w1 = e(s[2], s[0], px, py);
-    const double w2 = e(s[0], s[1], px, py);
-    const double sum = w0 + w1 + w2;
-    return sum != 0.0 ? glm::dvec3(w0, w1, w2) / sum : glm::dvec3(1.0 / 3.0);
-}
+// Perspective-correct interpolation (Heckbert & Moreton 1991; Low 2002, "Perspective-Correct Interpolation").
+// A world-space attribute a is affine on the triangle, a = sum l_i a_i, but the screen position is its
+// projection (x/w, y/w), under which a is not affine; a/w and 1/w are (affine functions of x/w, y/w on the
+// triangle's plane). With screen-space barycentrics b_i = e_i / sum_j e_j, where e_i is the edge function
+// of the edge opposite vertex i at the pixel centre (from the unsnapped vertex positions: snapping decides
+// coverage only), a/w = sum b_i a_i / w_i and 1/w = sum b_i / w_i, so
+//   l_i = q_i / sum_j q_j,  q_i = e_i / w_i,  and  a = (sum_i q_i a_i) / (sum_j q_j)
+// (the common 1 / sum_j e_j cancels). Each e_i is affine in the pixel position, so each q_i, their sum and
+// every numerator sum_i q_i a_i is an affine function c + cx X + cy Y of the offset (X, Y) from the first
+// corner: set up when emission meets a triangle (a small cache keeps it for the triangle's next pixels), then
+// per pixel two multiply-adds per value and one reciprocal.
+// In double, this differs from evaluating l_i first by a few double roundings (~1e-15 of the attribute's
+// magnitude), far below the float the fragment buffer stores.
 
-// Perspective-correct weights from screen-space barycentrics b (Heckbert & Moreton 1991; Low 2002,
-// "Perspective-Correct Interpolation"). A world-space attribute a is affine on the triangle, a = sum l_i a_i,
-// but the screen position is its projection (x/w, y/w), under which a is not affine; a/w and 1/w are
-// (they are affine functions of x/w, y/w on the triangle's plane). So a/w = sum b_i a_i / w_i and
-// 1/w = sum b_i / w_i, giving l_i = (b_i / w_i) / sum_j (b_j / w_j).
-glm::dvec3 interpolate_perspective(const glm::dvec3& b, const double inv_w[3]) {
-    const glm::dvec3 q(b.x * inv_w[0], b.y * inv_w[1], b.z * inv_w[2]);
-    return q / (q.x + q.y + q.z);
-}
+// An affine function of the offset (X, Y) from a triangle's first screen corner.
+struct Affine {
+    double c = 0, cx = 0, cy = 0;
+    double at(double X, double Y) const { return c + cx * X + cy * Y; }
+};
 
 // A winning triangle's corners, in screen order, with everything interpolation needs.
 struct Corners {
@@ -498,96 +565,181 @@ struct Corners {
     std::int32_t mesh_triangle;
 };
 
+// What emission evaluates per pixel for one visible triangle: the affine numerators and their denominator.
+struct Resolve {
+    double x0, y0;                  // first screen corner (the origin of X, Y)
+    Affine q;                       // sum_j q_j
+    Affine P[3], N[3], b1, b2;      // sum_i q_i a_i for position, normal, barycentrics 1 and 2
+    std::int32_t id;                // set-up triangle id
+    std::int32_t mesh_triangle;
+    bool degenerate;                // zero screen area (unsnapped): every pixel takes the centroid
+};
+
+Resolve resolve_of(const Corners& k, std::int32_t id) {
+    Resolve r;
+    r.x0 = k.screen[0].x;
+    r.y0 = k.screen[0].y;
+    r.id = id;
+    r.mesh_triangle = k.mesh_triangle;
+    Affine qi[3];
+    double esum = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec2 &a = k.screen[(i + 1) % 3], &b = k.screen[(i + 2) % 3];
+        // e_i = (b.x - a.x) (y - a.y) - (b.y - a.y) (x - a.x), with x = x0 + X, y = y0 + Y
+        const double ex = b.x - a.x, ey = b.y - a.y;
+        const double e0 = ex * (r.y0 - a.y) - ey * (r.x0 - a.x);
+        esum += e0;
+        qi[i] = Affine{e0 * k.inv_w[i], -ey * k.inv_w[i], ex * k.inv_w[i]};
+    }
+    r.degenerate = esum == 0.0;
+    auto weigh = [&](auto value) {   // sum_i q_i value(i)
+        Affine s;
+        for (int i = 0; i < 3; ++i) {
+            const double v = value(i);
+            s.c += qi[i].c * v;
+            s.cx += qi[i].cx * v;
+            s.cy += qi[i].cy * v;
+        }
+        return s;
+    };
+    r.q = weigh([](int) { return 1.0; });
+    for (int c = 0; c < 3; ++c) {
+        r.P[c] = weigh([&](int i) { return k.world[i][c]; });
+        r.N[c] = weigh([&](int i) { return k.normal[i][c]; });
+    }
+    r.b1 = weigh([&](int i) { return k.bary[i].y; });
+    r.b2 = weigh([&](int i) { return k.bary[i].z; });
+    return r;
+}
+
 struct EmitContext {
     const Mesh* mesh;
-    const glm::dvec4* clip;
+    const ScreenVertex* vertices;
     const std::vector<Chunk>* chunks;
     const std::vector<std::int32_t>* first_id;   // first set-up triangle id of each chunk (+ total)
-    const Visibility* vis;
+    const std::int32_t* owner;
+    const glm::ivec2* extent;   // covered span of each row
     glm::dvec3 eye, forward;
     bool flip;
     int width, height;
 };
 
-Corners corners_of(const EmitContext& c, std::int32_t id) {
+// The set-up chunk holding triangle `id`.
+std::size_t chunk_of(const EmitContext& c, std::int32_t id) {
     const std::vector<std::int32_t>& first_id = *c.first_id;
-    const std::size_t ci = std::size_t(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
+    return std::size_t(std::upper_bound(first_id.begin(), first_id.end(), id) - first_id.begin()) - 1;
+}
+
+const ShadeTri& shade_of(const EmitContext& c, std::size_t chunk, std::int32_t id) {
+    return (*c.chunks)[chunk].shade[std::size_t(id - (*c.first_id)[chunk])];
+}
+
+Corners corners_of(const EmitContext& c, std::int32_t id) {
+    const std::size_t ci = chunk_of(c, id);
     const Chunk& chunk = (*c.chunks)[ci];
-    const ShadeTri& s = chunk.shade[std::size_t(id - first_id[ci])];
-    const Mesh& mesh = *c.mesh;
-    const glm::u32vec3& tri = mesh.triangles[std::size_t(s.mesh_triangle)];
+    const ShadeTri& s = shade_of(c, ci, id);
     Corners k;
     for (int i = 0; i < 3; ++i) {
-        glm::dvec4 cl;
         if (s.clip_vertices >= 0) {
             const ClipVertex& v = chunk.clipped[std::size_t(s.clip_vertices + i)];
-            cl = v.clip;
             k.world[i] = v.world;
             k.normal[i] = v.normal;
             k.bary[i] = v.bary;
+            k.screen[i] = viewport_transform(v.clip, c.width, c.height);   // the same function set-up used
+            k.inv_w[i] = 1.0 / v.clip.w;
         } else {
             const int slot = s.swapped && i > 0 ? 3 - i : i;
-            cl = c.clip[tri[slot]];
-            k.world[i] = mesh.positions[tri[slot]];
-            k.normal[i] = mesh.normals[tri[slot]];
+            const ScreenVertex& v = c.vertices[s.vertex[i]];
+            k.world[i] = v.world;
+            k.normal[i] = v.normal;
             k.bary[i] = glm::dvec3(0.0);
             k.bary[i][slot] = 1.0;
+            k.screen[i] = v.screen;
+            k.inv_w[i] = v.inv_w;
         }
-        k.screen[i] = viewport_transform(cl, c.width, c.height);   // the same function set-up used
-        k.inv_w[i] = 1.0 / cl.w;
     }
     k.mesh_triangle = s.mesh_triangle;
     return k;
 }
 
+// The interpolated values at one pixel: position, unnormalised normal times the sign of the denominator,
+// barycentrics.
+struct Interpolated {
+    glm::dvec3 P, N, b;
+};
+
+// The rare fallback: the centroid weights l_i = (1/3 / w_i) / sum_j (1/3 / w_j), used where the screen
+// triangle has no area or the weights' denominator vanishes (a pixel covered after snapping but outside
+// the unsnapped triangle), so that no value is ever NaN.
+Interpolated centroid_values(const Corners& k) {
+    const glm::dvec3 q(k.inv_w[0] / 3.0, k.inv_w[1] / 3.0, k.inv_w[2] / 3.0);
+    const glm::dvec3 l = q / (q.x + q.y + q.z);
+    return {l.x * k.world[0] + l.y * k.world[1] + l.z * k.world[2],
+            l.x * k.normal[0] + l.y * k.normal[1] + l.z * k.normal[2],
+            l.x * k.bary[0] + l.y * k.bary[1] + l.z * k.bary[2]};
+}
+
+Interpolated interpolate(const EmitContext& c, const Resolve& r, double X, double Y) {
+    const double s = r.q.at(X, Y);
+    const double inv = 1.0 / s;
+    if (r.degenerate || !std::isfinite(inv)) return centroid_values(corners_of(c, r.id));
+    Interpolated v;
+    v.P = glm::dvec3(r.P[0].at(X, Y), r.P[1].at(X, Y), r.P[2].at(X, Y)) * inv;
+    v.N = glm::dvec3(r.N[0].at(X, Y), r.N[1].at(X, Y), r.N[2].at(X, Y));
+    if (s < 0.0) v.N = -v.N;   // the normal's direction is that of its numerator over s
+    v.b = glm::dvec3(0.0, r.b1.at(X, Y) * inv, r.b2.at(X, Y) * inv);
+    return v;
+}
+
 // Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on.
 void emit_band(const EmitContext& c, int y_begin, int y_end, std::size_t at, FragmentBuffer& fb) {
-    // A triangle's pixels come in runs on a few consecutive rows: a small direct-mapped cache of corners
-    // (by triangle id) looks each triangle up about once.
-    constexpr std::size_t kCache = 256;
-    std::vector<std::int32_t> cached(kCache, -1);
-    std::vector<Corners> cache(kCache);
-    for (int y = y_begin; y < y_end; ++y)
-        for (int x = 0; x < c.width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(c.width) + std::size_t(x);
-            const std::int32_t id = c.vis->owner[p];
+    // A triangle's pixels come in runs on a few consecutive rows: a small direct-mapped cache of Resolves
+    // (by triangle id) sets each triangle up about once per band.
+    constexpr std::size_t kCache = 1024;
+    std::vector<Resolve> cache(kCache);
+    for (Resolve& r : cache) r.id = -1;
+    float *const px = fb.px.data(), *const py = fb.py.data(), *const pz = fb.pz.data();
+    float *const nx = fb.nx.data(), *const ny = fb.ny.data(), *const nz = fb.nz.data();
+    float *const depth = fb.depth.data(), *const b1 = fb.b1.data(), *const b2 = fb.b2.data();
+    std::int32_t *const pixel = fb.pixel.data(), *const triangle = fb.triangle.data();
+    for (int y = y_begin; y < y_end; ++y) {
+        const std::size_t row = std::size_t(y) * std::size_t(c.width);
+        const std::int32_t* const owner = c.owner + row;
+        for (int x = c.extent[y].x, xe = c.extent[y].y; x < xe; ++x) {
+            const std::int32_t id = owner[x];
             if (id < 0) continue;
-            const std::size_t slot = std::size_t(id) % kCache;
-            if (cached[slot] != id) {
-                cache[slot] = corners_of(c, id);
-                cached[slot] = id;
-            }
-            const Corners& k = cache[slot];
-            const glm::dvec3 l = interpolate_perspective(screen_barycentrics(k.screen, x + 0.5, y + 0.5), k.inv_w);
-            const glm::dvec3 P = l.x * k.world[0] + l.y * k.world[1] + l.z * k.world[2];
-            glm::dvec3 N = l.x * k.normal[0] + l.y * k.normal[1] + l.z * k.normal[2];
+            Resolve& r = cache[std::size_t(id) % kCache];
+            if (r.id != id) r = resolve_of(corners_of(c, id), id);
+            const Interpolated v = interpolate(c, r, double(x) + 0.5 - r.x0, double(y) + 0.5 - r.y0);
+            const glm::dvec3& P = v.P;
+            glm::dvec3 N = v.N;
             const double len = glm::length(N);
-            if (len > 0.0) {
-                N /= len;
+            if (len > 0.0 && std::isfinite(len)) {
+                N *= 1.0 / len;
             } else {   // opposite vertex normals cancel here: fall back to the face normal (mesh winding)
                 const Mesh& m = *c.mesh;
-                const glm::u32vec3& tri = m.triangles[std::size_t(k.mesh_triangle)];
+                const glm::u32vec3& tri = m.triangles[std::size_t(r.mesh_triangle)];
                 N = glm::normalize(glm::cross(m.positions[tri[1]] - m.positions[tri[0]], m.positions[tri[2]] - m.positions[tri[0]]));
                 if (!finite(N)) N = -c.forward;
             }
             if (c.flip && glm::dot(N, c.eye - P) < 0.0) N = -N;
             // Depth: view-space distance along the camera axis (-z_view), from the interpolated position.
             const double d = glm::dot(P - c.eye, c.forward);
-            const glm::dvec3 b = l.x * k.bary[0] + l.y * k.bary[1] + l.z * k.bary[2];
 
-            fb.px[at] = float(P.x);
-            fb.py[at] = float(P.y);
-            fb.pz[at] = float(P.z);
-            fb.nx[at] = float(N.x);
-            fb.ny[at] = float(N.y);
-            fb.nz[at] = float(N.z);
-            fb.pixel[at] = std::int32_t(p);
-            fb.depth[at] = float(d);
-            fb.triangle[at] = k.mesh_triangle;
-            fb.b1[at] = float(b.y);
-            fb.b2[at] = float(b.z);
+            px[at] = float(P.x);
+            py[at] = float(P.y);
+            pz[at] = float(P.z);
+            nx[at] = float(N.x);
+            ny[at] = float(N.y);
+            nz[at] = float(N.z);
+            pixel[at] = std::int32_t(row + std::size_t(x));
+            depth[at] = float(d);
+            triangle[at] = r.mesh_triangle;
+            b1[at] = float(v.b.y);
+            b2[at] = float(v.b.z);
             ++at;
         }
+    }
 }
 
 }  // namespace
@@ -606,12 +758,16 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
     f.cull = options.cull_backfaces;
 
     // Large scratch arrays are left uninitialised here and first written by the thread that uses them.
-    // 1. Vertices to clip space.
+    // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
+    //    vertices all have w >= z_near > 0).
     const std::size_t nv = mesh.positions.size();
     std::unique_ptr<glm::dvec4[]> clip(new glm::dvec4[nv]);
+    std::unique_ptr<ScreenVertex[]> sv(new ScreenVertex[nv]);
     run_parallel(threads, [&](int i) {
-        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v)
+        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v) {
             clip[v] = to_clip(f.view_projection, mesh.positions[v]);
+            sv[v] = ScreenVertex{viewport_transform(clip[v], W, H), 1.0 / clip[v].w, mesh.positions[v], mesh.normals[v]};
+        }
     });
 
     // 2. Triangle set-up, contiguous ranges of mesh triangles; ids follow mesh order (the depth tie-break).
@@ -622,7 +778,7 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
         const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
-        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), t, f, chunk);
+        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), sv.get(), t, f, chunk);
     });
     std::vector<std::int32_t> first_id(chunks.size() + 1, 0);
     for (std::size_t i = 0; i < chunks.size(); ++i) {
@@ -633,13 +789,15 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
 
     // 3. Rasterise into the visibility buffer, a band of rows per thread (each owns its rows: no locks).
     const std::size_t npix = std::size_t(W) * std::size_t(H);
-    Visibility vis;
-    vis.depth.reset(new double[npix]);
-    vis.owner.reset(new std::int32_t[npix]);
+    std::unique_ptr<double[]> depth(new double[npix]);   // NDC z of the nearest surface so far
+    std::unique_ptr<std::int32_t[]> owner(new std::int32_t[npix]);
     const std::vector<int> bands = balanced_bands(chunks, W, H, threads);
     auto band = [&](int i) { return bands[std::size_t(i)]; };
     std::vector<std::size_t> covered(std::size_t(threads), 0);
-    run_parallel(threads, [&](int i) { covered[std::size_t(i)] = raster_band(chunks, W, band(i), band(i + 1), vis); });
+    std::vector<glm::ivec2> extent(static_cast<std::size_t>(H));
+    run_parallel(threads, [&](int i) {
+        covered[std::size_t(i)] = raster_band(chunks, W, band(i), band(i + 1), depth.get(), owner.get(), extent.data());
+    });
 
     // 4. Emit fragments in pixel order: each band writes its own slice of the buffer.
     std::vector<std::size_t> at(std::size_t(threads) + 1, 0);
@@ -651,7 +809,7 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
     fb.triangle.resize(at.back());
     fb.b1.resize(at.back());
     fb.b2.resize(at.back());
-    const EmitContext ctx{&mesh, clip.get(), &chunks, &first_id, &vis, camera.eye,
+    const EmitContext ctx{&mesh, sv.get(), &chunks, &first_id, owner.get(), extent.data(), camera.eye,
                           glm::normalize(camera.target - camera.eye), options.flip_normals_to_viewer, W, H};
     run_parallel(threads, [&](int i) { emit_band(ctx, band(i), band(i + 1), at[std::size_t(i)], fb); });
 
