@@ -45,10 +45,72 @@ SL_INLINE float3 sl_specular(__constant const ModelConsts* mc) { return vload3(0
 // written as 0 so no image or table ever holds NaN/Inf. The host validates inputs and reports them.
 SL_INLINE float3 sl_finite_or_zero(float3 v) { return select(v, (float3)(0.0f), isnan(v) | isinf(v)); }
 
+// ---- pow in precise mode --------------------------------------------------------------------------------
+// PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with
+// a micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s). sl_pow computes
+//   x^y = 2^(y log2 x)
+// in double: log2 by the atanh series, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute,
+// where float would lose up to 2^-17 and so ~1e-5 relative), 2^t by Taylor series. Every step is accurate to
+// ~1e-11 relative, so the float result is the correctly rounded x^y except within ~1e-11 of a rounding
+// boundary (measured over a dense sweep: docs/precision.md). No tables, no branches: it vectorises wherever
+// the calling kernel does. Devices without cl_khr_fp64 (or a build with -DSL_BUILTIN_POW) keep the built-in.
+#if defined(cl_khr_fp64) && !defined(SL_BUILTIN_POW)
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#define SL_HAVE_SL_POW 1
+
+// log2 x for finite x > 0 (float denormals are normal doubles). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
+//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + ... + s^13/13),  s = (m - 1) / (m + 1),
+// |s| <= 0.1716; the first omitted term, s^15/15, is < 2e-12 of the sum (Abramowitz & Stegun 4.1.27). The
+// polynomial in s^2 is evaluated by Estrin's scheme (shorter dependency chains than Horner: measured 1.8x
+// faster; both were correctly rounded, max 0.5 ulp, over the sweep in docs/precision.md).
+SL_INLINE double sl_log2_d(double x) {
+    const long bits = as_long(x);
+    const double m0 = as_double((bits & 0x000fffffffffffffL) | 0x3ff0000000000000L);   // [1, 2)
+    const int big = m0 > 1.41421356237309505;
+    const double m = big ? 0.5 * m0 : m0;
+    const double e = (double)((int)(bits >> 52) - 1023 + big);
+    const double s = (m - 1.0) / (m + 1.0), s2 = s * s, s4 = s2 * s2;
+    // Estrin: (1 + s2/3) + s4 ((1/5 + s2/7) + s4 (1/9 + s2/11 + s4/13))
+    const double p = fma(s2, 1.0 / 3.0, 1.0) +
+                     s4 * (fma(s2, 1.0 / 7.0, 1.0 / 5.0) + s4 * fma(s4, 1.0 / 13.0, fma(s2, 1.0 / 11.0, 1.0 / 9.0)));
+    return e + (2.0 * 1.44269504088896340736) * s * p;
+}
+
+// 2^t for t clamped to [-200, 200] (beyond the float range either way): t = k + f, k = rint(t), |f| <= 1/2,
+//   2^f = e^g, g = f ln 2, |g| <= 0.347, by its Taylor series to g^9/9! (remainder < 7e-12 relative, Estrin),
+// then scaled by 2^k built in the exponent field. rint by the 1.5 * 2^52 shift (a micro-kernel of this
+// function ran 10x faster than with PoCL's rint on double).
+SL_INLINE double sl_exp2_d(double t) {
+    t = fmin(fmax(t, -200.0), 200.0);
+    const double shifted = t + 6755399441055744.0;   // 1.5 * 2^52: k in the low mantissa bits
+    const double k = shifted - 6755399441055744.0;
+    const double g = (t - k) * 0.69314718055994530942, g2 = g * g, g4 = g2 * g2;
+    // Estrin over the Taylor coefficients 1/i!, i = 0..9
+    const double p01 = 1.0 + g, p23 = fma(g, 1.0 / 6.0, 0.5), p45 = fma(g, 1.0 / 120.0, 1.0 / 24.0);
+    const double p67 = fma(g, 1.0 / 5040.0, 1.0 / 720.0), p89 = fma(g, 1.0 / 362880.0, 1.0 / 40320.0);
+    const double p = fma(g2, p23, p01) + g4 * (fma(g2, p67, p45) + g4 * p89);
+    return p * as_double((as_long(shifted) + 1023L) << 52);
+}
+
+// x^y as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x), pow(1, y) = 1,
+// pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative base gives
+// NaN (as fast mode always did; the models never use one: they clamp bases, or select the value away where
+// the base is negative), and so does a NaN argument.
+SL_INLINE float sl_pow(float x, float y) {
+    const float r = (float)sl_exp2_d((double)y * sl_log2_d((double)x));
+    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
+    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
+    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
+    v = (x < 0.0f || isnan(x) || isnan(y)) ? NAN : v;
+    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
+}
+#endif
+
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
-// implementations, ~1-4 ulp). SL_FAST ("fast") maps them to the hardware-speed native_ forms and to an
-// exp2/log2 pow, accepting larger error; the error of every model in fast mode is measured against the
-// double reference and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
+// implementations, ~1-4 ulp), except pow and powr, which are sl_pow above (0.5 ulp, and 10-50x faster than
+// PoCL's pow). SL_FAST ("fast") maps them to the hardware-speed native_ forms and to an exp2/log2 pow,
+// accepting larger error; the error of every model in fast mode is measured against the double reference
+// and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
 #ifdef SL_FAST
 SL_INLINE float sl_fast_pow(float x, float y) {
@@ -85,6 +147,11 @@ SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) :
 #define cos(x) sl_fast_cos(x)
 #define tan(x) sl_fast_tan(x)
 #define divide(x, y) native_divide((x), (y))
+#elif defined(SL_HAVE_SL_POW)
+#undef pow
+#undef powr
+#define pow(x, y) sl_pow((x), (y))
+#define powr(x, y) sl_pow((x), (y))
 #endif
 
 #endif

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
@@ -115,7 +116,10 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         };
         cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
                    bnz = ro(fb.nz);
-        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, 3 * bytes);
+        // The output lives in `out`, whose pages the host has already touched (zero-filled): on a CPU device
+        // the kernel then writes straight into it, instead of first-touching a fresh buffer page by page
+        // (page faults inside the kernel's time) and copying it back afterwards.
+        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, 3 * bytes, out.data());
         cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
                            const_cast<ModelConsts*>(consts.data()));
         cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(LightGPU),
@@ -130,11 +134,18 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         k.setArg(10, blights);
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
         cl::Event ev;
-        q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)), cl::NDRange(kLocalSize),
-                               nullptr, &ev);
+        const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
+        if (local == kLocalAuto)
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)), cl::NullRange, nullptr, &ev);
+        else
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, local)), cl::NDRange(local), nullptr, &ev);
         ev.wait();
         const auto t3 = clock::now();
-        q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * bytes, out.data());
+        // A mapping makes the kernel's writes visible in `out` (no copy on a CPU device).
+        void* mapped = q.enqueueMapBuffer(bout, CL_TRUE, CL_MAP_READ, 0, 3 * bytes);
+        if (mapped != out.data()) std::memcpy(out.data(), mapped, 3 * bytes);
+        q.enqueueUnmapMemObject(bout, mapped);
+        q.finish();
         const auto t4 = clock::now();
         if (timing) {
             auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };

@@ -25,6 +25,9 @@ struct ShadeSetup {
     // the same for every fragment (orthographic views such as the moon disc).
     glm::dvec4 view{0.0, 0.0, 3.0, 1.0};
     Precision precision = Precision::Precise;
+    // Work-group size of the launch: 0 = Shader::kLocalSize; Shader::kLocalAuto = let the OpenCL runtime
+    // choose (NullRange). Only the benchmark's local-size study sets it; the result does not depend on it.
+    std::size_t local_size = 0;
 };
 
 struct ShadeTiming {
@@ -54,6 +57,7 @@ public:
 
     // Work-group size used for the launches (a multiple of the vector width helps PoCL's vectoriser).
     static constexpr std::size_t kLocalSize = 256;
+    static constexpr std::size_t kLocalAuto = ~std::size_t(0);
 
 private:
     Runtime& rt_;

@@ -63,16 +63,26 @@ SL_INLINE float Toon_Specular(float x, float half_width, __constant const float*
 // banded: banded Lambert, value = albedo * floor(max(0, NoL) * steps + 1/2) / steps.
 // c[0] = steps (whole number in [1, 256]), c[1] = 1 / steps. Source: seed 001 (banded lighting), rule
 // corrected as above. Directional albedo: exactly 1 for albedo 1 (rounding is unbiased per band).
+SL_INLINE float banded_nol(float NoL, __constant const ModelConsts* mc) {
+    return Band_Round(NoL, mc->c[0], mc->c[1]);
+}
+#define SL_HAS_NOL_banded_eval 1
+#define SL_NOL_banded_eval banded_nol
 SL_INLINE float3 banded_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * Band_Round(dot(N, L), mc->c[0], mc->c[1]);
+    return sl_albedo(mc) * banded_nol(dot(N, L), mc);
 }
 
 // banded_seed001: value = albedo * (seed 001's bandedNdotL) with t = light_steps (whole number in
 // [1, 256]). c[0] = t, c[1] = t / 2, c[2] = t / 256.
+SL_INLINE float banded_seed001_nol(float NoL, __constant const ModelConsts* mc) {
+    return Band_Seed001(NoL, mc->c[0], mc->c[1], mc->c[2]);
+}
+#define SL_HAS_NOL_banded_seed001_eval 1
+#define SL_NOL_banded_seed001_eval banded_seed001_nol
 SL_INLINE float3 banded_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * Band_Seed001(dot(N, L), mc->c[0], mc->c[1], mc->c[2]);
+    return sl_albedo(mc) * banded_seed001_nol(dot(N, L), mc);
 }
 
 // toon: value = albedo * Toon_Diffuse(NoL) + specular * Toon_Step(NoL, 0) * Toon_Specular(max(0, NoH)^n)

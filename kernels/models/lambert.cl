@@ -7,8 +7,16 @@
 
 SL_INLINE float Fd_Lambert_cos(float NoL) { return fmax(NoL, 0.0f); }
 
+// value = albedo * lambert_nol(NoL): shade.cl's scalar path for models of N.L alone uses this factor directly.
+SL_INLINE float lambert_nol(float NoL, __constant const ModelConsts* mc) {
+    (void)mc;
+    return Fd_Lambert_cos(NoL);
+}
+#define SL_HAS_NOL_lambert_eval 1
+#define SL_NOL_lambert_eval lambert_nol
+
 SL_INLINE float3 lambert_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * Fd_Lambert_cos(dot(N, L));
+    return sl_albedo(mc) * lambert_nol(dot(N, L), mc);
 }
 #endif
