@@ -27,6 +27,7 @@
 #include <CLI/CLI.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "bench_util.hpp"
 #include "cl/runtime.hpp"
 #include "color/image_compare.hpp"
 #include "core/error.hpp"
@@ -486,14 +487,6 @@ void parse_size(const std::string& s, int& w, int& h) {
         throw Error("--sizes expects WIDTHxHEIGHT with each side in [1, 16384], such as 512x512; got '" + s + "'");
 }
 
-std::string cpu_name() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
 void print_header(const std::string& mesh, std::size_t tris, int w, int h, std::size_t frags) {
     std::printf("\n== %s (%zu triangles), %dx%d, %zu fragments\n", mesh.c_str(), tris, w, h, frags);
     std::printf("%-14s %-8s %10s %11s %7s %-14s %8s %8s %8s %9s | %7s %7s %7s %7s %7s %7s | %7s %7s\n", "model",
@@ -552,7 +545,7 @@ int run(const Options& o) {
     Runtime rt;
     Shader shader(rt);
     const std::string glsl_dir = std::string(SHADELAB_SOURCE_DIR) + "/bench/glsl";
-    std::printf("machine:  %u hardware threads, %s\n", std::thread::hardware_concurrency(), cpu_name().c_str());
+    std::printf("machine:  %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
     std::printf("shadelab: rasteriser on %d threads; OpenCL %s, %u compute units\n", kThreads,
                 rt.device_description().c_str(), rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     std::printf("llvmpipe: GL_RENDERER '%s', GL_VERSION '%s', LP_NUM_THREADS=%s\n", gl.renderer().c_str(),

@@ -35,6 +35,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_util.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
 #include "cpp_loops.hpp"
@@ -264,14 +265,6 @@ void judge(Row& row, bool precise) {
     if (row.verdict.empty()) row.verdict = "ok";
 }
 
-std::string cpu_name() {
-    std::ifstream in("/proc/cpuinfo");
-    std::string line;
-    while (std::getline(in, line))
-        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-    return "unknown CPU";
-}
-
 // --local-sizes: Mfrag/s of a few models at several work-group sizes (and the runtime's own choice).
 void local_size_study(Runtime& rt, Shader& shader, const Options& opt) {
     const std::vector<std::string> models = opt.models.empty()
@@ -343,7 +336,7 @@ int main(int argc, char** argv) {
         }
         Runtime rt;
         Shader shader(rt);
-        std::cout << "machine: " << std::thread::hardware_concurrency() << " threads, " << cpu_name() << "\n"
+        std::cout << "machine: " << std::thread::hardware_concurrency() << " threads, " << bench::cpu_name() << "\n"
                   << "device:  " << rt.device_description() << "\n"
                   << "ratios are measured in this run; kernel times are device times from profiling events, best of "
                   << opt.repeats << "; the copy kernel is re-timed before every row\n";

@@ -43,6 +43,16 @@ std::string fmt(double x) {
 }
 }  // namespace
 
+void add_demo_children(Material& m, const ModelInfo& info) {
+    const glm::dvec3 colours[2] = {{0.85, 0.35, 0.2}, {0.2, 0.45, 0.85}};
+    for (int c = 0; c < info.children; ++c) {
+        Material child;
+        child.model = "lambert";
+        child.albedo = colours[c % 2];
+        m.children.push_back(child);
+    }
+}
+
 Material resolve_material(const Material& m, const std::string& where) {
     const std::string at = where.empty() ? "" : where + ": ";
     const ModelInfo* info = nullptr;

@@ -55,6 +55,10 @@ const ModelInfo& find_model(const std::string& name);
 // `where` prefixes messages (e.g. "scene 'a.json', material 'm'").
 Material resolve_material(const Material& m, const std::string& where = "");
 
+// Gives a model that blends others (info.children > 0) its children for a demonstration: Lambert surfaces of
+// contrasting colour (orange, blue), so the blend shows. What the contact sheet and the chart draw.
+void add_demo_children(Material& m, const ModelInfo& info);
+
 // Parameters of a resolved material in the model's declared order.
 std::vector<double> ordered_params(const ModelInfo& info, const Material& m);
 

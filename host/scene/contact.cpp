@@ -56,13 +56,7 @@ View frame(const Mesh& mesh, int cell) {
 Material default_material(const ModelInfo& info) {
     Material m;
     m.model = info.name;
-    const glm::dvec3 colours[2] = {{0.85, 0.35, 0.2}, {0.2, 0.45, 0.85}};
-    for (int c = 0; c < info.children; ++c) {
-        Material child;
-        child.model = "lambert";
-        child.albedo = colours[c % 2];
-        m.children.push_back(child);
-    }
+    add_demo_children(m, info);
     return resolve_material(m, "contact sheet, model '" + info.name + "'");
 }
 

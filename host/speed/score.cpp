@@ -45,13 +45,7 @@ Material chart_material(const std::string& model) {
     m.model = info.name;
     m.albedo = glm::dvec3(0.9, 0.5, 0.25);
     m.specular = glm::dvec3(1.0);
-    const glm::dvec3 colours[2] = {{0.85, 0.35, 0.2}, {0.2, 0.45, 0.85}};
-    for (int c = 0; c < info.children; ++c) {
-        Material child;
-        child.model = "lambert";
-        child.albedo = colours[c % 2];
-        m.children.push_back(child);
-    }
+    add_demo_children(m, info);
     return resolve_material(m, "chart, model '" + info.name + "'");
 }
 
