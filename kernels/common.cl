@@ -38,12 +38,50 @@ typedef struct {
 } Light;
 
 SL_INLINE float sl_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
-SL_INLINE float3 sl_albedo(__constant const ModelConsts* mc) { return vload3(0, mc->albedo); }
-SL_INLINE float3 sl_specular(__constant const ModelConsts* mc) { return vload3(0, mc->specular); }
 
-// Non-finite values can only come from invalid input (a NaN normal, a zero light vector); they are
-// written as 0 so no image or table ever holds NaN/Inf. The host validates inputs and reports them.
-SL_INLINE float3 sl_finite_or_zero(float3 v) { return select(v, (float3)(0.0f), isnan(v) | isinf(v)); }
+// ---- float3-free vector algebra ----------------------------------------------------------------------------
+// PoCL 3.1's work-item loop vectoriser (LLVM 15) gives up on any vector-typed instruction ("instruction return
+// type cannot be vectorized"), so a model written with float3 runs one fragment at a time. The model files
+// therefore use a struct of three scalars and these helpers: every operation stays scalar, and the loop over
+// work-items is vectorised (8 fragments per instruction on this device). Results are per-channel scalars (sl_rgb).
+// Both structs are padded past 16 bytes on purpose: the x86-64 ABI passes and returns a struct of three floats
+// as a <2 x float> register plus a float, and those <2 x float> pieces survive inlining as vector
+// instructions, which stop the loop vectoriser. A struct over 16 bytes goes through memory and is split into
+// scalars once inlined. The padding is never read or written.
+typedef struct { float x, y, z, pad_[2]; } sl_v3;
+typedef struct { float r, g, b, pad_[2]; } sl_rgb;
+
+SL_INLINE sl_v3 sl_v3_make(float x, float y, float z) { sl_v3 v; v.x = x; v.y = y; v.z = z; return v; }
+SL_INLINE sl_v3 sl_add(sl_v3 a, sl_v3 b) { return sl_v3_make(a.x + b.x, a.y + b.y, a.z + b.z); }
+SL_INLINE sl_v3 sl_sub(sl_v3 a, sl_v3 b) { return sl_v3_make(a.x - b.x, a.y - b.y, a.z - b.z); }
+SL_INLINE sl_v3 sl_scale(sl_v3 a, float s) { return sl_v3_make(a.x * s, a.y * s, a.z * s); }
+// a . b
+SL_INLINE float sl_dot(sl_v3 a, sl_v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+// a x b
+SL_INLINE sl_v3 sl_cross(sl_v3 a, sl_v3 b) {
+    return sl_v3_make(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+// |a|
+SL_INLINE float sl_length(sl_v3 a) { return sqrt(sl_dot(a, a)); }
+// a / |a| (a != 0)
+SL_INLINE sl_v3 sl_normalize(sl_v3 a) { return sl_scale(a, rsqrt(sl_dot(a, a))); }
+
+// Per-channel results: the common "albedo * d + specular * s" shape of the models.
+SL_INLINE sl_rgb sl_rgb_make(float r, float g, float b) { sl_rgb v; v.r = r; v.g = g; v.b = b; return v; }
+// albedo * d
+SL_INLINE sl_rgb sl_albedo_times(__constant const ModelConsts* mc, float d) {
+    return sl_rgb_make(mc->albedo[0] * d, mc->albedo[1] * d, mc->albedo[2] * d);
+}
+// albedo * d + specular * s
+SL_INLINE sl_rgb sl_diffuse_specular(__constant const ModelConsts* mc, float d, float s) {
+    return sl_rgb_make(mc->albedo[0] * d + mc->specular[0] * s, mc->albedo[1] * d + mc->specular[1] * s,
+                       mc->albedo[2] * d + mc->specular[2] * s);
+}
+// (1 - t) a + t b, per channel (OpenCL's mix)
+SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
+    return sl_rgb_make(mix(a.r, b.r, t), mix(a.g, b.g, t), mix(a.b, b.b, t));
+}
+
 
 // ---- pow in precise mode --------------------------------------------------------------------------------
 // PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with
@@ -101,22 +139,81 @@ SL_INLINE float sl_pow(float x, float y) {
     const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
     const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
     float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
-    v = (x < 0.0f || isnan(x) || isnan(y)) ? NAN : v;
+    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
     return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
 #endif
 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
 // implementations, ~1-4 ulp), except pow and powr, which are sl_pow above (0.5 ulp, and 10-50x faster than
-// PoCL's pow). SL_FAST ("fast") maps them to the hardware-speed native_ forms and to an exp2/log2 pow,
-// accepting larger error; the error of every model in fast mode is measured against the double reference
-// and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
+// PoCL's pow). SL_FAST ("fast") maps them to the hardware-speed native_ forms and pow to sl_fast_pow (float,
+// no double arithmetic), accepting larger error; the error of every model in fast mode is measured against the
+// double reference and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
 #ifdef SL_FAST
+// Fast pow: x^y = 2^(y log2 x) in float, with y log2 x carried as a float-float pair (hi + lo) so that its
+// rounding does not cost the result ln 2 |y log2 x| 2^-24 of relative error (what exp2(y * log2(x)) loses: up
+// to 115 ulp for results near 2^-126). No tables, no data-dependent branches, no calls: it vectorises with
+// its model (PoCL's float log2 and exp2 are calls the loop vectoriser cannot widen). Measured error in
+// docs/precision.md (layer 1, and bounded in tests/test_precision.cpp).
+
+// log2 x = hi + lo for finite x > 0 (denormals included). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
+//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) s (1 + s^2/3 + s^4/5 + s^6/7 + s^8/9),  s = (m - 1) / (m + 1),
+// |s| <= 0.1716; the first omitted term, s^10/11, is < 2.1e-9 of the sum (Abramowitz & Stegun 4.1.27).
+// The leading term (2 / ln 2) s is formed in float-float (s from the division's fma residual, 2 / ln 2 as two
+// floats), the polynomial's tail (below 1% of it) in float; lo carries the roundings of hi.
+SL_INLINE float sl_fast_log2(float x, float* lo) {
+    const int sub = x < 1.17549435e-38f;                      // denormal: scale by 2^24 first
+    const int bits = as_int(sub ? x * 16777216.0f : x);
+    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
+    const int big = m0 > 1.41421356f;
+    const float m = big ? 0.5f * m0 : m0;
+    const float e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
+    const float a = m - 1.0f;                                   // exact
+    const float b = m + 1.0f, b_lo = m - (b - 1.0f);            // m + 1 = b + b_lo exactly
+    const float s = a / b;
+    const float s_lo = (fma(-s, b, a) - s * b_lo) / b;          // a / (b + b_lo) - s
+    const float s2 = s * s, s4 = s2 * s2;
+    // Estrin: s^2/3 + s^4 (1/5 + s^2/7 + s^4/9)
+    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
+    const float c_hi = 2.88539004f, c_lo = 3.85192598e-8f;      // 2 / ln 2 = c_hi + c_lo
+    const float p = c_hi * s, p_lo = fma(c_hi, s, -p);        // c_hi s = p + p_lo exactly
+    const float tail_p = p * tail;                              // below 1% of p
+    const float l_hi = p + tail_p;
+    const float l_lo = ((p - l_hi) + tail_p) + (p_lo + c_lo * s + c_hi * s_lo);
+    const float hi = e + l_hi;                                  // |e| >= 1 > |l_hi| or e = 0: exact remainder
+    *lo = (l_hi - (hi - e)) + l_lo;
+    return hi;
+}
+
+// 2^(t + t_lo) in float for t clamped to [-160, 130] (beyond the float range either way): t = k + f,
+// k = rint(t), f = (t - k) + t_lo, 2^f = e^g, g = f ln 2, |g| <= 0.35, by its Taylor series to g^7/7!
+// (remainder < 6e-9 relative), scaled by 2^k in two exponent-field factors (so that results down to the
+// denormals need no special path). rint by the 1.5 * 2^23 shift.
+SL_INLINE float sl_fast_exp2(float t, float t_lo) {
+    t = fmin(fmax(t, -160.0f), 130.0f);
+    const float shifted = t + 12582912.0f;   // 1.5 * 2^23: k in the low mantissa bits
+    const float k = shifted - 12582912.0f;
+    const float g = ((t - k) + t_lo) * 0.693147181f, g2 = g * g, g4 = g2 * g2;
+    // Estrin over the Taylor coefficients 1/i!, i = 0..7
+    const float p = fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
+                    g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
+    const int ki = (int)k, k1 = ki / 2;
+    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
+}
+
+// Special cases as sl_pow: pow(x, 0) = 1, pow(1, y) = 1, pow(0, y) = 0 / +inf for y > 0 / < 0,
+// pow(+inf, y) = +inf / 0; a negative base or a NaN gives NaN.
 SL_INLINE float sl_fast_pow(float x, float y) {
-    // pow(0, y) is 0 for y > 0, 1 for y == 0, inf for y < 0; negative bases are invalid input (NaN).
-    const float r = native_exp2(y * native_log2(x));
-    return x == 0.0f ? (y == 0.0f ? 1.0f : (y > 0.0f ? 0.0f : INFINITY)) : r;
+    float l_lo;
+    const float l = sl_fast_log2(x, &l_lo);
+    const float t = y * l;
+    const float r = sl_fast_exp2(t, fma(y, l, -t) + y * l_lo);
+    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
+    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
+    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
+    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
+    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
 // PoCL's native_sin/cos/tan lose their argument reduction past about 5e4 rad (measured: cos off by 0.023 in
 // [1e5, 1e6]); only a gradient blend with a tiny period reaches there. Large arguments take the full functions.

@@ -1,7 +1,8 @@
 // The shading kernels. The host builds this file with the model chosen by defines:
 //   SL_MODEL_HEADER  e.g. <models/lambert.cl>   the file that defines the model's eval function
-//   SL_EVAL          e.g. lambert_eval          float3 f(float3 N, float3 L, float3 V, float3 P, consts*)
+//   SL_EVAL          e.g. lambert_eval          sl_rgb f(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, consts*)
 //   SL_NUM_LIGHTS    number of lights (the loop is unrolled for it)
+//   SL_ALL_DIRECTIONAL  1 when every light is directional (optional)
 // so each program holds only the model and options a scene uses.
 #include "common.cl"
 #include SL_MODEL_HEADER
@@ -9,77 +10,44 @@
 #ifndef SL_NUM_LIGHTS
 #define SL_NUM_LIGHTS 1
 #endif
-
-// Light `li`'s position (or direction) and radiance, from scalar loads.
-SL_INLINE float3 light_vec(__constant const Light* li) {
-    return (float3)(li->pos_or_dir.x, li->pos_or_dir.y, li->pos_or_dir.z);
-}
-SL_INLINE float3 light_radiance(__constant const Light* li) {
-    return (float3)(li->radiance.x, li->radiance.y, li->radiance.z);
-}
-
-// Irradiance-like factor and direction of light `li` at P: directional lights are unattenuated;
-// point lights fall off with the inverse square of distance, optionally windowed to zero at `range`
-// with (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
-SL_INLINE float3 light_incident(__constant const Light* li, float3 P, float3* L) {
-    if (li->params.x == 0.0f) {
-        *L = light_vec(li);
-        return light_radiance(li);
-    }
-    const float3 d = light_vec(li) - P;
-    const float d2 = fmax(dot(d, d), 1e-12f);   // a light exactly at the surface point: no direction
-    *L = d * rsqrt(d2);
-    float window = 1.0f;
-    const float range = li->params.y;
-    if (range > 0.0f) {
-        const float q = d2 / (range * range);
-        window = sl_saturate(1.0f - q * q);
-        window *= window;
-    }
-    return light_radiance(li) * (window / d2);
-}
-
-// The unit vector to the viewer at P: view.w == 1: view.xyz is the camera position (perspective);
-// view.w == 0: view.xyz is the unit direction to the viewer, the same for every fragment (orthographic,
-// used for the moon disc).
-SL_INLINE float3 view_dir(float4 view, float3 P) {
-    const float3 eye = (float3)(view.x, view.y, view.z);
-    return view.w != 0.0f ? normalize(eye - P) : eye;
-}
+// SL_ALL_DIRECTIONAL=1 (set by Shader::shade when no light is a point light) removes the point-light arithmetic:
+// the vectorised work-item loop cannot branch on the light type, it computes both and selects (with the point
+// path's sqrt and three divisions Lambert ran 330-440 Mfrag/s, without 550-710: 4M fragments, one directional
+// light, two alternating runs).
+#ifndef SL_ALL_DIRECTIONAL
+#define SL_ALL_DIRECTIONAL 0
+#endif
 
 // A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no
-// image or table ever holds NaN/Inf. v - v is 0 for finite v and NaN for NaN and +-Inf (the kernels are not
-// built with -cl-finite-math-only, so it is not folded away). Per channel, not as a float3 select.
-SL_INLINE float sl_finite_or_zero1(float v) { return v - v == 0.0f ? v : 0.0f; }
+// image or table ever holds NaN/Inf. Without a comparison: exponent field 255 (Inf, NaN) gives the mask 0, any
+// other exponent all ones. Three comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts
+// from to pack the channels into a <2 x float>, and one packed instruction stops PoCL's loop vectoriser.
+SL_INLINE float sl_finite_or_zero(float v) {
+    const uint u = as_uint(v);
+    const uint nonfinite = (((u >> 23) & 0xffu) + 1u) >> 8;   // 1 iff the exponent field is all ones
+    return as_float(u & (nonfinite - 1u));
+}
 
-// Models of N.L alone (value = albedo * factor(NoL); the model file defines SL_HAS_NOL_<eval> and
-// SL_NOL_<eval>, and builds its eval from the same factor) are shaded in scalars, without the float3 packing
-// and shuffling of the general path below (5-20% faster: three alternating A/B runs at 4M fragments). Neither
-// path is vectorised across work-items: PoCL's loop vectoriser (LLVM 15) rejects any vector-typed instruction
-// ("instruction return type cannot be vectorized"), which every float3 eval has, and here the SLP vectoriser
-// packs the three channels' finite checks into one. A variant without the checks did vectorise (width 8) and
-// was slower. Same operations per channel as the general path.
-#define SL_CAT_(a, b) a##b
-#define SL_CAT(a, b) SL_CAT_(a, b)
-#if SL_CAT(SL_HAS_NOL_, SL_EVAL)
-#define SL_NOL_EVAL SL_CAT(SL_NOL_, SL_EVAL)
+// Every model's eval is written float3-free (common.cl's sl_v3 / sl_rgb), so the whole kernel is scalar code
+// and PoCL's loop vectoriser runs 8 fragments per instruction ("vectorized loop (vectorization width: 8)" with
+// POCL_VECTORIZER_REMARKS=1; docs/precision.md, "Vectorised kernels", lists what it took and what is not).
 
-// Scalar light_incident for the N.L path: returns NoL and the factor that scales the light's radiance
-// (1 for a directional light; window / d^2 for a point light). Reads the Light through a float pointer: a
-// float4 load would be a vector instruction.
-SL_INLINE float light_nol(__constant const Light* li, float px, float py, float pz, float nx, float ny, float nz,
-                          float* NoL) {
+// Irradiance-like factor and direction of light `li` at P, in scalars: returns the factor that scales the
+// light's radiance and sets *L to the unit direction to it. Directional lights are unattenuated (factor 1);
+// point lights fall off with the inverse square of distance, optionally windowed to zero at `range` with
+// (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
+SL_INLINE float light_incident_v3(__constant const Light* li, sl_v3 P, sl_v3* L) {
     __constant const float* f = (__constant const float*)li;   // pos_or_dir[0..3], radiance[4..7], params[8..11]
-    if (f[8] == 0.0f) {
-        *NoL = nx * f[0] + ny * f[1] + nz * f[2];
+    const sl_v3 pos = sl_v3_make(f[0], f[1], f[2]);
+    const float range = f[9];   // read before the branch: a load under it would not be hoisted (a gather)
+    if (SL_ALL_DIRECTIONAL || f[8] == 0.0f) {
+        *L = pos;
         return 1.0f;
     }
-    const float dx = f[0] - px, dy = f[1] - py, dz = f[2] - pz;
-    const float d2 = fmax(dx * dx + dy * dy + dz * dz, 1e-12f);
-    const float inv = rsqrt(d2);
-    *NoL = nx * (dx * inv) + ny * (dy * inv) + nz * (dz * inv);
+    const sl_v3 d = sl_sub(pos, P);
+    const float d2 = fmax(sl_dot(d, d), 1e-12f);   // a light exactly at the surface point: no direction
+    *L = sl_scale(d, rsqrt(d2));
     float window = 1.0f;
-    const float range = f[9];
     if (range > 0.0f) {
         const float q = d2 / (range * range);
         window = sl_saturate(1.0f - q * q);
@@ -88,69 +56,64 @@ SL_INLINE float light_nol(__constant const Light* li, float px, float py, float 
     return window / d2;
 }
 
-__kernel void shade_fragments(__global const float* restrict px, __global const float* restrict py,
-                              __global const float* restrict pz, __global const float* restrict nx,
-                              __global const float* restrict ny, __global const float* restrict nz,
-                              __global float* restrict out, const uint n, const float4 view,
-                              __constant const ModelConsts* mc, __constant const Light* lights,
-                              const float4 ambient) {
-    (void)view;
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float x = px[i], y = py[i], z = pz[i], a = nx[i], b = ny[i], c = nz[i];
-    const float ar = mc->albedo[0], ag = mc->albedo[1], ab = mc->albedo[2];
-    float r = ambient.x * ar, g = ambient.y * ag, bl = ambient.z * ab;
-#pragma unroll
-    for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
-        float NoL;
-        const float e = light_nol(&lights[l], x, y, z, a, b, c, &NoL);
-        const float f = SL_NOL_EVAL(NoL, mc);
-        __constant const float* rad = (__constant const float*)&lights[l] + 4;
-        r += (rad[0] * e) * (ar * f);
-        g += (rad[1] * e) * (ag * f);
-        bl += (rad[2] * e) * (ab * f);
-    }
-    out[i] = sl_finite_or_zero1(r);
-    out[n + i] = sl_finite_or_zero1(g);
-    out[2 * n + i] = sl_finite_or_zero1(bl);
+// The unit vector to the viewer at P: view.w == 1: view.xyz is the camera position (perspective);
+// view.w == 0: view.xyz is the unit direction to the viewer, the same for every fragment (orthographic,
+// used for the moon disc).
+SL_INLINE sl_v3 view_dir_v3(float4 view, sl_v3 P) {
+    const sl_v3 eye = sl_v3_make(view.x, view.y, view.z);
+    return view.w != 0.0f ? sl_normalize(sl_sub(eye, P)) : eye;
 }
 
-#else
 // One fragment: sum over lights of incident * model, plus ambient * albedo.
 __kernel void shade_fragments(__global const float* restrict px, __global const float* restrict py,
                               __global const float* restrict pz, __global const float* restrict nx,
                               __global const float* restrict ny, __global const float* restrict nz,
-                              __global float* restrict out, const uint n, const float4 view,
+                              __global float* restrict out, const uint stride, const float4 view,
                               __constant const ModelConsts* mc, __constant const Light* lights,
                               const float4 ambient) {
-    const uint i = get_global_id(0);
-    if (i >= n) return;
-    const float3 P = (float3)(px[i], py[i], pz[i]);
-    const float3 N = (float3)(nx[i], ny[i], nz[i]);
-    const float3 V = view_dir(view, P);
-    float3 sum = (float3)(ambient.x, ambient.y, ambient.z) * sl_albedo(mc);
+    // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
+    // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
+    // lights, the model's c[]) under a condition, where PoCL's work-item loop cannot hoist them: vectorised,
+    // each became a gather per fragment. size_t, not uint: a 32-bit index that may wrap makes px[i] a gather.
+    const size_t i = get_global_id(0);
+    const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
+    const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
+    const sl_v3 V = view_dir_v3(view, P);
+    float r = ambient.x * mc->albedo[0], g = ambient.y * mc->albedo[1], b = ambient.z * mc->albedo[2];
 #pragma unroll
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
-        float3 L;
-        const float3 E = light_incident(&lights[l], P, &L);
-        sum += E * SL_EVAL(N, L, V, P, mc);
+        sl_v3 L;
+        const float e = light_incident_v3(&lights[l], P, &L);
+        const sl_rgb v = SL_EVAL(N, L, V, P, mc);
+        __constant const float* rad = (__constant const float*)&lights[l] + 4;
+        r += (rad[0] * e) * v.r;
+        g += (rad[1] * e) * v.g;
+        b += (rad[2] * e) * v.b;
     }
-    out[i] = sl_finite_or_zero1(sum.x);
-    out[n + i] = sl_finite_or_zero1(sum.y);
-    out[2 * n + i] = sl_finite_or_zero1(sum.z);
+    out[i] = sl_finite_or_zero(r);
+    out[stride + i] = sl_finite_or_zero(g);
+    out[2 * stride + i] = sl_finite_or_zero(b);
 }
-#endif
+
+// The model alone at triple i of xyz-interleaved N, L, V, P (unmasked: tests/test_precision.cpp counts its NaN/Inf).
+SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global const float* L_,
+                                   __global const float* V_, __global const float* P_,
+                                   __constant const ModelConsts* mc) {
+    const sl_v3 N = sl_v3_make(N_[3 * i], N_[3 * i + 1], N_[3 * i + 2]);
+    const sl_v3 L = sl_v3_make(L_[3 * i], L_[3 * i + 1], L_[3 * i + 2]);
+    const sl_v3 V = sl_v3_make(V_[3 * i], V_[3 * i + 1], V_[3 * i + 2]);
+    const sl_v3 P = sl_v3_make(P_[3 * i], P_[3 * i + 1], P_[3 * i + 2]);
+    return SL_EVAL(N, L, V, P, mc);
+}
 
 // The model alone for given unit directions (no lights, no attenuation): what the tests sweep.
 __kernel void eval_directions(__global const float* restrict N_, __global const float* restrict L_,
                               __global const float* restrict V_, __global const float* restrict P_,
                               __global float* restrict out, const uint n, __constant const ModelConsts* mc) {
-    const uint i = get_global_id(0);
+    const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes px[i] a gather
     if (i >= n) return;
-    const float3 N = vload3(i, N_);
-    const float3 L = vload3(i, L_);
-    const float3 V = vload3(i, V_);
-    const float3 P = vload3(i, P_);
-    const float3 r = sl_finite_or_zero(SL_EVAL(N, L, V, P, mc));
-    vstore3(r, i, out);
+    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc);
+    out[3 * i] = sl_finite_or_zero(r.r);
+    out[3 * i + 1] = sl_finite_or_zero(r.g);
+    out[3 * i + 2] = sl_finite_or_zero(r.b);
 }

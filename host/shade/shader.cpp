@@ -1,5 +1,6 @@
 #include "shade/shader.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -101,18 +102,31 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     }
 
     using clock = std::chrono::steady_clock;
-    std::vector<float> out(3 * n);
+    // Every buffer is padded to the launch size (n rounded up to the work-group size): the kernel has no bounds
+    // check, which keeps its constant loads hoisted out of the vectorised work-item loop (kernels/shade.cl).
+    const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
+    const std::size_t padded = round_up(n, local == kLocalAuto ? kLocalSize : local);
+    std::vector<float> out(3 * padded);
     try {
         const auto t0 = clock::now();
-        cl::Program prog = rt_.build("shade.cl", defines_for(mat, int(setup.lights.size()), setup.precision),
-                                     options_for(setup.precision));
+        std::vector<std::string> defines = defines_for(mat, int(setup.lights.size()), setup.precision);
+        // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
+        // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
+        const bool all_directional = std::all_of(setup.lights.begin(), setup.lights.end(),
+                                                 [](const Light& l) { return l.type == Light::Type::Directional; });
+        if (all_directional) defines.push_back("SL_ALL_DIRECTIONAL=1");
+        cl::Program prog = rt_.build("shade.cl", defines, options_for(setup.precision));
         const auto t1 = clock::now();
         cl::Kernel k(prog, "shade_fragments");
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
-        const std::size_t bytes = n * sizeof(float);
+        const std::size_t bytes = padded * sizeof(float);
         auto ro = [&](const std::vector<float>& v) {
-            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+            if (padded == n)
+                return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+            std::vector<float> p(padded, 0.0f);   // the padding shades (0, 0, 0) fragments, never read back
+            std::copy(v.begin(), v.end(), p.begin());
+            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, p.data());
         };
         cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
                    bnz = ro(fb.nz);
@@ -128,17 +142,16 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         k.setArg(0, bpx); k.setArg(1, bpy); k.setArg(2, bpz);
         k.setArg(3, bnx); k.setArg(4, bny); k.setArg(5, bnz);
         k.setArg(6, bout);
-        k.setArg(7, cl_uint(n));
+        k.setArg(7, cl_uint(padded));   // the plane stride of `out`
         k.setArg(8, cl_float4{{float(view.x), float(view.y), float(view.z), float(view.w)}});
         k.setArg(9, bconsts);
         k.setArg(10, blights);
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
         cl::Event ev;
-        const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
         if (local == kLocalAuto)
-            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)), cl::NullRange, nullptr, &ev);
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NullRange, nullptr, &ev);
         else
-            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, local)), cl::NDRange(local), nullptr, &ev);
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr, &ev);
         ev.wait();
         const auto t3 = clock::now();
         // A mapping makes the kernel's writes visible in `out` (no copy on a CPU device).
@@ -146,6 +159,11 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         if (mapped != out.data()) std::memcpy(out.data(), mapped, 3 * bytes);
         q.enqueueUnmapMemObject(bout, mapped);
         q.finish();
+        if (padded != n) {   // planes of `padded` floats -> planes of n
+            std::copy(out.begin() + padded, out.begin() + padded + n, out.begin() + n);
+            std::copy(out.begin() + 2 * padded, out.begin() + 2 * padded + n, out.begin() + 2 * n);
+            out.resize(3 * n);
+        }
         const auto t4 = clock::now();
         if (timing) {
             auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };

@@ -11,8 +11,8 @@
 
 namespace shadelab {
 
-// How the kernels compute (see kernels/common.cl): precise = the OpenCL built-ins; fast = native_ forms
-// and an exp2/log2 pow, built with -cl-mad-enable. Errors of each are measured in docs/precision.md.
+// How the kernels compute (see kernels/common.cl): precise = the OpenCL built-ins and a double-precision pow;
+// fast = native_ forms and a float pow, built with -cl-mad-enable. Errors of each are measured in docs/precision.md.
 enum class Precision { Precise, Fast };
 const char* precision_name(Precision p);
 Precision parse_precision(const std::string& name);   // "precise" | "fast"; throws shadelab::Error

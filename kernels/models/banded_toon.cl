@@ -35,12 +35,21 @@ SL_INLINE float Band_Seed001(float NoL, float t, float half_t, float t_256) {
     return floor((fmax(NoL, 0.0f) * 256.0f + half_t) / t) * t_256;
 }
 
+// Hermite smoothstep over [e0, e1] as OpenCL defines it: t = clamp((x - e0) / (e1 - e0), 0, 1), t^2 (3 - 2 t).
+// Written out because PoCL's smoothstep and step are calls the work-item loop vectoriser cannot widen.
+SL_INLINE float Toon_Smoothstep(float e0, float e1, float x) {
+    const float t = sl_saturate((x - e0) / (e1 - e0));
+    return t * t * (3.0f - 2.0f * t);
+}
+
 // One toon band edge at threshold `edge`: half_width 0 gives a hard step (x >= edge -> 1: a value
 // exactly at the edge takes the upper level); half_width > 0 a smoothstep over
-// [edge - half_width, edge + half_width]. (OpenCL's smoothstep is undefined for equal edges, hence
-// the explicit hard case.)
+// [edge - half_width, edge + half_width]. (Smoothstep is undefined for equal edges, hence the explicit
+// hard case; both are computed and one selected, so there is no branch.)
 SL_INLINE float Toon_Step(float x, float edge, float half_width) {
-    return half_width > 0.0f ? smoothstep(edge - half_width, edge + half_width, x) : step(edge, x);
+    const float smooth = Toon_Smoothstep(edge - half_width, edge + half_width, x);
+    const float hard = x >= edge ? 1.0f : 0.0f;
+    return half_width > 0.0f ? smooth : hard;
 }
 
 // Toon diffuse: four levels d0..d3 over the unclamped NoL with ascending thresholds t1 <= t2 <= t3,
@@ -63,26 +72,16 @@ SL_INLINE float Toon_Specular(float x, float half_width, __constant const float*
 // banded: banded Lambert, value = albedo * floor(max(0, NoL) * steps + 1/2) / steps.
 // c[0] = steps (whole number in [1, 256]), c[1] = 1 / steps. Source: seed 001 (banded lighting), rule
 // corrected as above. Directional albedo: exactly 1 for albedo 1 (rounding is unbiased per band).
-SL_INLINE float banded_nol(float NoL, __constant const ModelConsts* mc) {
-    return Band_Round(NoL, mc->c[0], mc->c[1]);
-}
-#define SL_HAS_NOL_banded_eval 1
-#define SL_NOL_banded_eval banded_nol
-SL_INLINE float3 banded_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb banded_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * banded_nol(dot(N, L), mc);
+    return sl_albedo_times(mc, Band_Round(sl_dot(N, L), mc->c[0], mc->c[1]));
 }
 
 // banded_seed001: value = albedo * (seed 001's bandedNdotL) with t = light_steps (whole number in
 // [1, 256]). c[0] = t, c[1] = t / 2, c[2] = t / 256.
-SL_INLINE float banded_seed001_nol(float NoL, __constant const ModelConsts* mc) {
-    return Band_Seed001(NoL, mc->c[0], mc->c[1], mc->c[2]);
-}
-#define SL_HAS_NOL_banded_seed001_eval 1
-#define SL_NOL_banded_seed001_eval banded_seed001_nol
-SL_INLINE float3 banded_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * banded_seed001_nol(dot(N, L), mc);
+    return sl_albedo_times(mc, Band_Seed001(sl_dot(N, L), mc->c[0], mc->c[1], mc->c[2]));
 }
 
 // toon: value = albedo * Toon_Diffuse(NoL) + specular * Toon_Step(NoL, 0) * Toon_Specular(max(0, NoH)^n)
@@ -92,13 +91,13 @@ SL_INLINE float3 banded_seed001_eval(float3 N, float3 L, float3 V, float3 P, __c
 // c[0] = n, c[1] = width / 2. The highlight is gated by the light's side, an edge at NoL = 0 like the
 // others (hard: NoL >= 0; smoothed with the same width), and is 0 where H is undefined (L = -V).
 // Leaves out: energy conservation, reciprocity, outlines.
-SL_INLINE float3 toon_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
+    const float NoL = sl_dot(N, L);
     const float half_width = mc->c[1];
     const float x = Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_albedo(mc) * Toon_Diffuse(NoL, half_width, mc->c) +
-           sl_specular(mc) * (Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, mc->c));
+    return sl_diffuse_specular(mc, Toon_Diffuse(NoL, half_width, mc->c),
+                               Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, mc->c));
 }
 
 #endif

@@ -110,44 +110,43 @@ SL_INLINE float G_VGroove_over_NoV(float NoL, float NoV, float NoH, float VoH) {
 typedef struct {
     float NoL, NoV, NoH, VoH;
     float NoH2, NxH2;   // cos^2 and sin^2 of theta_h (both scaled by |N|^2 |H|^2, which tan^2 cancels)
-    float3 H;
     bool specular;      // false: no specular term (light or view below the surface, or H undefined)
 } CT_Frame;
 
-SL_INLINE CT_Frame CT_frame(float3 N, float3 L, float3 V) {
+SL_INLINE CT_Frame CT_frame(sl_v3 N, sl_v3 L, sl_v3 V) {
     CT_Frame f;
-    f.NoL = dot(N, L);
-    f.NoV = dot(N, V);
-    const float3 s = L + V;
-    const float len2 = dot(s, s);
+    f.NoL = sl_dot(N, L);
+    f.NoV = sl_dot(N, V);
+    const sl_v3 s = sl_add(L, V);
+    const float len2 = sl_dot(s, s);
     // L = -V: H is undefined. With NoL, NoV > 0 that can only happen at the horizon (NoL + NoV = N.(L + V)
     // <= |L + V|), so the cut at |L + V|^2 <= 1e-12 removes only NoV, NoL < 1e-6 (see G_VGroove_over_NoV).
     // Comparisons with NaN are false: NaN input gets no specular term.
     f.specular = f.NoL > 0.0f && f.NoV > 0.0f && len2 > 1e-12f;
     const float inv_len = rsqrt(fmax(len2, 1e-30f));
-    f.H = s * inv_len;
-    f.NoH = fmax(dot(N, f.H), 0.0f);
+    const sl_v3 H = sl_scale(s, inv_len);
+    f.NoH = fmax(sl_dot(N, H), 0.0f);
     // VoH = LoH = |L + V| / 2 for unit L and V. Formed from |L + V| rather than dot(V, H): symmetric in L and V, and
     // free of the cancellation in dot(V, H) when L ~ -V, where the float inputs' lengths (1 +- 6e-8) dominate:
     // dot(V, H) - dot(L, H) = (|V|^2 - |L|^2) / |L + V|, a factor 3 apart at |L + V| = 2e-4 (seen in the sweep).
     // It is > 5e-7 wherever the lobe is evaluated (len2 > 1e-12); the cap at 1 keeps (1 - VoH)^5 >= 0 when the
     // inputs' lengths put |L + V| / 2 a rounding above 1.
     f.VoH = fmin(0.5f * len2 * inv_len, 1.0f);
-    const float3 NxH = cross(N, f.H);
+    const sl_v3 NxH = sl_cross(N, H);
     f.NoH2 = f.NoH * f.NoH;
-    f.NxH2 = dot(NxH, NxH);
+    f.NxH2 = sl_dot(NxH, NxH);
     return f;
 }
 
 // Diffuse base plus the specular part; spec = F D G / NoV (or 0).
-SL_INLINE float3 CT_value(float NoL, float spec, __constant const ModelConsts* mc) {
-    return mc->c[2] * sl_albedo(mc) * fmax(NoL, 0.0f) + mc->c[3] * sl_specular(mc) * spec;
+SL_INLINE sl_rgb CT_value(float NoL, float spec, __constant const ModelConsts* mc) {
+    return sl_diffuse_specular(mc, mc->c[2] * fmax(NoL, 0.0f), mc->c[3] * spec);
 }
 
 // ---- the models -----------------------------------------------------------------------------------------
 
 // cook_torrance: Beckmann D, Schlick F, V-groove G. The reference combination.
-SL_INLINE float3 cook_torrance_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Schlick(f.VoH, mc->c[1]) * D_Beckmann(f.NoH2, f.NxH2, mc->c[4], mc->c[5]) *
@@ -157,7 +156,7 @@ SL_INLINE float3 cook_torrance_eval(float3 N, float3 L, float3 V, float3 P, __co
 }
 
 // cook_torrance_ggx: GGX (Trowbridge-Reitz) D in place of Beckmann; same F and G.
-SL_INLINE float3 cook_torrance_ggx_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Schlick(f.VoH, mc->c[1]) * D_GGX(f.NoH2, f.NxH2, mc->c[6]) *
@@ -167,7 +166,8 @@ SL_INLINE float3 cook_torrance_ggx_eval(float3 N, float3 L, float3 V, float3 P, 
 }
 
 // cook_torrance_exact_fresnel: the exact dielectric Fresnel term (the 1982 paper's own F) in place of Schlick.
-SL_INLINE float3 cook_torrance_exact_fresnel_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_exact_fresnel_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
+                                                  __constant const ModelConsts* mc) {
     (void)P;
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Dielectric(f.VoH, mc->c[7], mc->c[8]) *
@@ -178,10 +178,11 @@ SL_INLINE float3 cook_torrance_exact_fresnel_eval(float3 N, float3 L, float3 V, 
 }
 
 // cook_torrance_seed004: the slides' Schlick with theta read as the angle between H and V, in radians.
-SL_INLINE float3 cook_torrance_seed004_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const CT_Frame f = CT_frame(N, L, V);
-    const float spec = f.specular ? F_SchlickSeedAngle(atan2(length(L - V), length(L + V)), mc->c[1]) *
+    const float theta = atan2(sl_length(sl_sub(L, V)), sl_length(sl_add(L, V)));   // see F_SchlickSeedAngle
+    const float spec = f.specular ? F_SchlickSeedAngle(theta, mc->c[1]) *
                                         D_Beckmann(f.NoH2, f.NxH2, mc->c[4], mc->c[5]) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
                                   : 0.0f;

@@ -14,13 +14,13 @@
 #include SL_CHILD0_HEADER
 #include SL_CHILD1_HEADER
 
-SL_INLINE float Gradient_Weight(float3 P, __constant const ModelConsts* mc) {
-    const float3 g = (float3)(mc->c[0], mc->c[1], mc->c[2]);
-    return 0.5f + 0.5f * cos(dot(P, g) * mc->c[3] + mc->c[4]);
+SL_INLINE float Gradient_Weight(sl_v3 P, __constant const ModelConsts* mc) {
+    const sl_v3 g = sl_v3_make(mc->c[0], mc->c[1], mc->c[2]);
+    return 0.5f + 0.5f * cos(sl_dot(P, g) * mc->c[3] + mc->c[4]);
 }
 
-SL_INLINE float3 gradient_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb gradient_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     const float t = Gradient_Weight(P, mc);
-    return mix(SL_CHILD0_EVAL(N, L, V, P, mc + 1), SL_CHILD1_EVAL(N, L, V, P, mc + 2), t);
+    return sl_rgb_mix(SL_CHILD0_EVAL(N, L, V, P, mc + 1), SL_CHILD1_EVAL(N, L, V, P, mc + 2), t);
 }
 #endif

@@ -7,16 +7,8 @@
 
 SL_INLINE float Fd_Lambert_cos(float NoL) { return fmax(NoL, 0.0f); }
 
-// value = albedo * lambert_nol(NoL): shade.cl's scalar path for models of N.L alone uses this factor directly.
-SL_INLINE float lambert_nol(float NoL, __constant const ModelConsts* mc) {
-    (void)mc;
-    return Fd_Lambert_cos(NoL);
-}
-#define SL_HAS_NOL_lambert_eval 1
-#define SL_NOL_lambert_eval lambert_nol
-
-SL_INLINE float3 lambert_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * lambert_nol(dot(N, L), mc);
+    return sl_albedo_times(mc, Fd_Lambert_cos(sl_dot(N, L)));
 }
 #endif

@@ -18,11 +18,11 @@
 // ---- terms --------------------------------------------------------------------------------------------
 
 // 1 - NoV for unit N and V, computed as |N - V|^2 / 2: the two are equal for unit vectors, and this form has
-// no cancellation as V -> N, where 1 - dot(N, V) keeps no correct digit and a fractional power of it
+// no cancellation as V -> N, where 1 - sl_dot(N, V) keeps no correct digit and a fractional power of it
 // (MinnaertB's (1 - NoV)^(1-k), Blender's (1.001 - NoV)^(d-1)) would amplify that to 1e-2 of the value.
-SL_INLINE float Minnaert_one_minus_NoV(float3 N, float3 V) {
-    const float3 d = N - V;
-    return 0.5f * dot(d, d);
+SL_INLINE float Minnaert_one_minus_NoV(sl_v3 N, sl_v3 V) {
+    const sl_v3 d = sl_sub(N, V);
+    return 0.5f * sl_dot(d, d);
 }
 
 // Limb guard of the 1941 law, for one cosine c (NoL or NoV): 1 above eps, falling linearly to 0 at c = 0.
@@ -59,8 +59,10 @@ SL_INLINE float Minnaert_blender_nvidia(float one_minus_nv, float d_minus_1) {
 }
 
 // Seed 002's MinnaertB factor on Lambert: NoL^k * (1 - NoV)^(1-k). pow(0, 0) = 1 at k = 1, V = N (the limit).
-SL_INLINE float MinnaertB_factor(float NoL, float one_minus_NoV, float k, float one_minus_k) {
-    return pow(NoL, k) * pow(one_minus_NoV, one_minus_k);
+// Returned times a (the caller's NoL) as (a NoL^k) (1 - NoV)^(1-k): a product of the two powers alone is what
+// LLVM's SLP vectoriser pairs into one <2 x float> computation in fast mode, which stops the loop vectoriser.
+SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, float k, float one_minus_k) {
+    return (a * pow(NoL, k)) * pow(one_minus_NoV, one_minus_k);
 }
 
 // ---- models -------------------------------------------------------------------------------------------
@@ -73,11 +75,11 @@ SL_INLINE float MinnaertB_factor(float NoL, float one_minus_NoV, float k, float 
 // albedo is Minnaert's B0 (the value at NoL = NoV = 1), not a hemispherical albedo: the directional albedo is
 // 2/(k+1) * NoV^(k-1), so neither energy-conserving for k < 1 nor normalised. Leaves out: phase dependence
 // of k and B0 (planetary fits use k(alpha)); opposition surge; limb guard below NoL or NoV = 1e-3 (above).
-SL_INLINE float3 minnaert_1941_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_1941_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L), NoV = dot(N, V);
+    const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float f = NoL * Minnaert_limb(NoL, NoV, mc->c[0], mc->c[1], mc->c[2]);
-    return sl_albedo(mc) * (NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }
 
 // minnaert_unity (seeds 000 "Shader Story" and 001, Unity-style HLSL):
@@ -86,11 +88,11 @@ SL_INLINE float3 minnaert_1941_eval(float3 N, float3 L, float3 V, float3 P, __co
 // Parameter: k ("_Roughness") in [-1, 1] (c[0] = k); k = 0 is Lambert. Reciprocal for k >= 0 only (the clip
 // is not symmetric). No limb guard needed: the saturate bounds it. NoL <= 0 returns 0 explicitly, where the
 // seed's 0 * pow(0, k < 0) = 0 * inf would be NaN. Leaves out: 1/pi, any normalisation.
-SL_INLINE float3 minnaert_unity_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = fmax(dot(N, L), 0.0f), NoV = fmax(dot(N, V), 0.0f);
+    const float NoL = fmax(sl_dot(N, L), 0.0f), NoV = fmax(sl_dot(N, V), 0.0f);
     const float f = Fd_MinnaertUnity(NoL, NoV, mc->c[0]);
-    return sl_albedo(mc) * (NoL > 0.0f ? f : 0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? f : 0.0f);
 }
 
 // minnaert_blender (Blender 2.37-2.7x internal renderer, source/blender/render/intern/source/shadeoutput.c,
@@ -100,14 +102,14 @@ SL_INLINE float3 minnaert_unity_eval(float3 N, float3 L, float3 V, float3 P, __c
 //   nv = max(NoV, 0) (Blender clamps, it does not return 0 behind the limb); 0 for NoL <= 0.
 // Parameter: darkness d in [0, 2] (c[0] = d - 1, c[1] = 1 for the d <= 1 branch else 0); d = 1 is Lambert.
 // Reciprocal for d <= 1 only. Leaves out: 1/pi, normalisation (d < 1 brightens up to 10x Lambert).
-SL_INLINE float3 minnaert_blender_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L), NoV = dot(N, V);
+    const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float nv = fmax(NoV, 0.0f);
     const float one_minus_nv = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
     const float factor = mc->c[1] != 0.0f ? Minnaert_blender_real(NoL, nv, mc->c[0])
                                           : Minnaert_blender_nvidia(one_minus_nv, mc->c[0]);
-    return sl_albedo(mc) * (NoL > 0.0f ? NoL * factor : 0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * factor : 0.0f);
 }
 
 // minnaert_b (seed 002, "MinnaertB", citing a course page I could not retrieve to check it against):
@@ -115,12 +117,12 @@ SL_INLINE float3 minnaert_blender_eval(float3 N, float3 L, float3 V, float3 P, _
 // Parameter: k in [0, 1] (c[0] = k, c[1] = 1 - k). No k gives Lambert (k = 1 gives NoL^2); for k < 1 the
 // value is 0 where the surface faces the viewer (NoV = 1) and largest at the limb: a velvet/rim look, not a
 // lunar law. Never brighter than Lambert (energy-conserving), not reciprocal. Leaves out: 1/pi.
-SL_INLINE float3 minnaert_b_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L), NoV = dot(N, V);
+    const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float one_minus_NoV = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
-    const float f = NoL * MinnaertB_factor(NoL, one_minus_NoV, mc->c[0], mc->c[1]);
-    return sl_albedo(mc) * (NoL > 0.0f ? f : 0.0f);
+    const float f = MinnaertB_factor_times(NoL, NoL, one_minus_NoV, mc->c[0], mc->c[1]);   // NoL * factor
+    return sl_albedo_times(mc, NoL > 0.0f ? f : 0.0f);
 }
 
 // minnaert_normalized: the 1941 law as a normalised BRDF,
@@ -129,11 +131,11 @@ SL_INLINE float3 minnaert_b_eval(float3 N, float3 L, float3 V, float3 P, __const
 // reciprocity, the white-furnace value for a viewer on the normal); at other angles it is albedo * mu^(k-1)
 // (above albedo for k < 1, below for k > 1). Parameter: k in [0, 2] (c[0] = k - 1, c[1] = eps, c[2] = 1/eps,
 // c[3] = (k+1)/2). Same limb guard as minnaert_1941. k = 1 is Lambert.
-SL_INLINE float3 minnaert_normalized_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L), NoV = dot(N, V);
+    const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float f = mc->c[3] * NoL * Minnaert_limb(NoL, NoV, mc->c[0], mc->c[1], mc->c[2]);
-    return sl_albedo(mc) * (NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }
 
 #endif

@@ -25,7 +25,7 @@
 // every V, and keeps the trig and s/t forms equal there too. The seed models keep their seeds' own handling.
 //
 // Key identity (docs derive it): for unit vectors
-//   s = LoV - NoL NoV = dot(Lt, Vt) = sin(theta_i) sin(theta_r) cos(phi_i - phi_r),
+//   s = LoV - NoL NoV = sl_dot(Lt, Vt) = sin(theta_i) sin(theta_r) cos(phi_i - phi_r),
 //   sin(alpha) tan(beta) = sin(theta_i) sin(theta_r) / cos(beta) = sin(theta_i) sin(theta_r) / max(NoL, NoV),
 // hence max(0, cos(phi_i - phi_r)) sin(alpha) tan(beta) = max(0, s) / max(NoL, NoV).
 #ifndef SHADELAB_MODEL_OREN_NAYAR_CL
@@ -37,20 +37,24 @@
 // sin(theta) of W from N as |N x W|: exact for unit vectors and, unlike sqrt(1 - NoW^2), without
 // cancellation near normal incidence (there a float NoW error of 6e-8 becomes 6e-8 / sin(theta) in
 // sqrt(1 - NoW^2), 6% of sin(theta) at theta = 1e-3; the cross product keeps ~1e-7 absolute).
-SL_INLINE float ON_sin_theta(float3 N, float3 W) { return length(cross(N, W)); }
+SL_INLINE float ON_sin_theta(sl_v3 N, sl_v3 W) { return sl_length(sl_cross(N, W)); }
 
 // cos(phi_i - phi_r) from the tangential projections. Undefined when either projection vanishes (L or V
 // along +-N: no azimuth); 0 is returned there. Every term it multiplies is then 0 as well (tan(beta) = 0
 // for L or V = N), except for V = -N below the horizon, where the azimuth-dependent term is dropped.
-SL_INLINE float ON_cos_dphi(float3 N, float3 L, float3 V, float NoL, float NoV) {
-    const float3 Lt = L - N * NoL;
-    const float3 Vt = V - N * NoV;
-    const float d2 = dot(Lt, Lt) * dot(Vt, Vt);
-    return d2 > 1e-30f ? dot(Lt, Vt) * rsqrt(d2) : 0.0f;
+SL_INLINE float ON_cos_dphi(sl_v3 N, sl_v3 L, sl_v3 V, float NoL, float NoV) {
+    const sl_v3 Lt = sl_sub(L, sl_scale(N, NoL));
+    const sl_v3 Vt = sl_sub(V, sl_scale(N, NoV));
+    // |Lt|^2 |Vt|^2 = |Lt x Vt|^2 + (Lt . Vt)^2 (Lagrange's identity; two non-negative terms). The product of
+    // the two squared lengths is what LLVM's SLP vectoriser pairs into <2 x float>, which stops the loop vectoriser.
+    const float s = sl_dot(Lt, Vt);
+    const sl_v3 c = sl_cross(Lt, Vt);
+    const float d2 = fma(s, s, sl_dot(c, c));
+    return d2 > 1e-30f ? s * rsqrt(d2) : 0.0f;
 }
 
 // s = LoV - NoL NoV = sin(theta_i) sin(theta_r) cos(phi_i - phi_r), with the below-horizon convention:
-// for NoV < 0, theta_r := 90 deg, i.e. s = dot(Lt, Vt) / |Vt|, |Vt| = sin_r = |N x V| (from the cross product:
+// for NoV < 0, theta_r := 90 deg, i.e. s = sl_dot(Lt, Vt) / |Vt|, |Vt| = sin_r = |N x V| (from the cross product:
 // sqrt(1 - NoV^2) would cost 1/sin^2 conditioning as V -> -N); 0 at V = -N (no azimuth, as in ON_cos_dphi).
 SL_INLINE float ON_s(float LoV, float NoL, float NoV, float sin_r) {
     const float s = LoV - NoL * NoV;
@@ -80,16 +84,16 @@ SL_INLINE float Fd_OrenNayar(float A, float B, float cos_dphi, float sin_alpha_t
     return A + B * fmax(cos_dphi, 0.0f) * sin_alpha_tan_beta;
 }
 
-SL_INLINE float3 oren_nayar_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
     const float NoVc = fmax(NoV, 0.0f);                              // below horizon: grazing view
     const float sin_i = ON_sin_theta(N, L);
     const float sin_r = NoV >= 0.0f ? ON_sin_theta(N, V) : 1.0f;    // below horizon: theta_r = 90 deg
     const float f = Fd_OrenNayar(mc->c[0], mc->c[1], ON_cos_dphi(N, L, V, NoL, NoV),
                                  ON_sin_alpha_tan_beta(NoL, NoVc, sin_i, sin_r));
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // The same QON, trig-free (the form of Fujii 2013 and of seed 001, with the paper's clamp at 0):
@@ -100,12 +104,13 @@ SL_INLINE float Fd_OrenNayar_st(float A, float B, float s, float NoL, float NoVc
     return A + B * fmax(s, 0.0f) / fmax(NoL, NoVc);
 }
 
-SL_INLINE float3 oren_nayar_st_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_st_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float f = Fd_OrenNayar_st(mc->c[0], mc->c[1], ON_s(dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
+    const float f = Fd_OrenNayar_st(mc->c[0], mc->c[1], s, NoL, fmax(NoV, 0.0f));
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // ---- the paper's full model ---------------------------------------------------------------------------------
@@ -138,10 +143,15 @@ SL_INLINE float ON_L2(float c4, float cos_dphi, float two_beta_over_pi) {
     return c4 * (1.0f - cos_dphi * two_beta_over_pi * two_beta_over_pi);
 }
 
-SL_INLINE float3 oren_nayar_full_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+// One channel of the full model's value, NoL (rho L1 + rho^2 L2) for albedo rho; 0 for NoL <= 0.
+SL_INLINE float ON_full_channel(float rho, float NoL, float L1, float L2) {
+    return NoL > 0.0f ? NoL * (rho * L1 + rho * rho * L2) : 0.0f;
+}
+
+SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
     const float NoVc = fmax(NoV, 0.0f);
     const float sin_i = ON_sin_theta(N, L);
     const float sin_r = NoV >= 0.0f ? ON_sin_theta(N, V) : 1.0f;
@@ -161,8 +171,8 @@ SL_INLINE float3 oren_nayar_full_eval(float3 N, float3 L, float3 V, float3 P, __
     const float L1 = mc->c[0] + cos_dphi * ON_C2(mc->c[1], cos_dphi, sin_a, tbp) * tan_beta +
                      (1.0f - fabs(cos_dphi)) * ON_C3(mc->c[2], alpha, beta) * tan_half;
     const float L2 = ON_L2(mc->c[3], cos_dphi, tbp);
-    const float3 rho = sl_albedo(mc);
-    return NoL > 0.0f ? NoL * (rho * L1 + rho * rho * L2) : (float3)(0.0f);
+    return sl_rgb_make(ON_full_channel(mc->albedo[0], NoL, L1, L2), ON_full_channel(mc->albedo[1], NoL, L1, L2),
+                       ON_full_channel(mc->albedo[2], NoL, L1, L2));
 }
 
 // ---- the seeds' forms ---------------------------------------------------------------------------------------
@@ -175,17 +185,22 @@ SL_INLINE float3 oren_nayar_full_eval(float3 N, float3 L, float3 V, float3 P, __
 // interreflection term (without its (1 - cos(dphi)(2 beta/pi)^2)): this is Fujii's form "matched to full O-N"
 // (oren_nayar_fujii_full) except for saturate(LoV). Negative s is kept (t = 1), unlike QON's clamp.
 // c[0] = on.x, c[1] = on.y, c[2] = on.z.
-SL_INLINE float3 oren_nayar_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+// One channel, rho NoL (on.x + rho on.y + on.z s) for albedo rho. Guard: NoL = 0 (saturated) with NoV = 0 and
+// LoV > 0 divides by 0; the seed's own factor NoL makes the value 0 there, which is what is returned (without
+// 0 * inf).
+SL_INLINE float ON_seed001_channel(float rho, float NoL, float s, __constant const ModelConsts* mc) {
+    return NoL > 0.0f ? rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * s) : 0.0f;
+}
+
+SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = sl_saturate(dot(N, L));
-    const float NoV = sl_saturate(dot(N, V));
-    float s = sl_saturate(dot(L, V)) - NoL * NoV;
+    const float NoL = sl_saturate(sl_dot(N, L));
+    const float NoV = sl_saturate(sl_dot(N, V));
+    float s = sl_saturate(sl_dot(L, V)) - NoL * NoV;
     s /= s <= 0.0f ? 1.0f : fmax(NoL, NoV);   // max(NoL, NoV) >= NoL > 0 wherever the value is kept
-    const float3 rho = sl_albedo(mc);
-    const float3 v = rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * s);
-    // Guard: NoL = 0 (saturated) with NoV = 0 and LoV > 0 divides by 0; the seed's own factor NoL makes
-    // the value 0 there, which is what is returned (without 0 * inf).
-    return NoL > 0.0f ? v : (float3)(0.0f);
+    return sl_rgb_make(ON_seed001_channel(mc->albedo[0], NoL, s, mc),
+                       ON_seed001_channel(mc->albedo[1], NoL, s, mc),
+                       ON_seed001_channel(mc->albedo[2], NoL, s, mc));
 }
 
 // Seed 003 (HLSL notes), literally:
@@ -199,17 +214,17 @@ SL_INLINE float3 oren_nayar_seed001_eval(float3 N, float3 L, float3 V, float3 P,
 // sin(acos(x)) = sqrt(1 - x^2) and tan(acos(x)) = sqrt(1 - x^2) / x exactly: used instead of the acos/sin/tan
 // chain, because in float acos(x) for x < 4e-8 rounds to float(pi/2) > pi/2, whose tan is -2.3e7: NoL * tan
 // then turns a grazing light into a large negative value (tests show it). c[0] = A, c[1] = B.
-SL_INLINE float3 oren_nayar_seed003_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = sl_saturate(dot(N, L));
-    const float NoV = sl_saturate(dot(N, V));
-    const float PhiR = length(V - N * NoV) * length(L - N * NoL);
+    const float NoL = sl_saturate(sl_dot(N, L));
+    const float NoV = sl_saturate(sl_dot(N, V));
+    const float PhiR = sl_length(sl_sub(V, sl_scale(N, NoV))) * sl_length(sl_sub(L, sl_scale(N, NoL)));
     const float cos_a = fmin(NoL, NoV);   // Alpha = max(acos NoV, acos NoL): the smaller cosine
     const float cos_b = fmax(NoL, NoV);   // Beta = min(...): the larger cosine, >= NoL > 0 where used
     const float sin_alpha = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f));
     const float tan_beta = sqrt(fmax(1.0f - cos_b * cos_b, 0.0f)) / cos_b;
     const float f = mc->c[0] + mc->c[1] * fmax(PhiR, 0.0f) * sin_alpha * tan_beta;
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // Seed 004 (lecture slides), literally:
@@ -221,16 +236,16 @@ SL_INLINE float3 oren_nayar_seed003_eval(float3 N, float3 L, float3 V, float3 P,
 // where the paper has cos(dphi): the B term is scaled by sin(theta_i) sin(theta_r) <= 1. Angles from the raw
 // dot products (a view below the horizon gives angle(N, V) > 90 deg, as the slides' formulas do).
 // sin(alpha), tan(beta) from the cosines (exact; see seed 003 for why not acos/tan). c[0] = A, c[1] = B.
-SL_INLINE float3 oren_nayar_seed004_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float gamma = dot(V - N * NoV, L - N * NoL);
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float gamma = sl_dot(sl_sub(V, sl_scale(N, NoV)), sl_sub(L, sl_scale(N, NoL)));
     const float cos_a = fmin(NoL, NoV);
     const float cos_b = fmax(NoL, NoV);   // >= NoL > 0 where used
     const float C = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f)) * (sqrt(fmax(1.0f - cos_b * cos_b, 0.0f)) / cos_b);
     const float f = mc->c[0] + mc->c[1] * fmax(gamma, 0.0f) * C;
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // Blender 2.4x OrenNayar_Diff (source/blender/render/intern/source/shadeoutput.c), literally:
@@ -241,24 +256,26 @@ SL_INLINE float3 oren_nayar_seed004_eval(float3 N, float3 L, float3 V, float3 P,
 // The 0.95 ("prevent tangens from shooting to inf") bounds tan(b) by tan(0.95 pi/2) = 12.7, at the cost of
 // a darker B term everywhere. Angles via atan2(|N x W|, N.W) (= acos, accurate near 0); Blender's
 // normalize_v3 returns a zero vector for a zero input, so t = 0 at L or V = N. c[0] = A, c[1] = B.
-SL_INLINE float3 ON_normalize_or_zero(float3 v) {
-    const float d2 = dot(v, v);
-    return d2 > 1e-30f ? v * rsqrt(d2) : (float3)(0.0f);
+SL_INLINE sl_v3 ON_normalize_or_zero(sl_v3 v) {
+    const float d2 = sl_dot(v, v);
+    return sl_scale(v, d2 > 1e-30f ? rsqrt(d2) : 0.0f);
 }
 
-SL_INLINE float3 oren_nayar_blender_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float nv = fmax(dot(N, V), 0.0f);
+    const float NoL = sl_dot(N, L);
+    const float nv = fmax(sl_dot(N, V), 0.0f);
     const float lit_a = atan2(ON_sin_theta(N, L), NoL);
     // acos(nv) with nv clamped as in Blender: 90 deg for any view at or below the horizon (atan2(0, 0) at
     // V = -N would give 0).
     const float view_a = nv > 0.0f ? atan2(ON_sin_theta(N, V), nv) : 0.5f * SL_PI;
-    const float t = fmax(dot(ON_normalize_or_zero(L - N * NoL), ON_normalize_or_zero(V - N * nv)), 0.0f);
+    const sl_v3 Lt = ON_normalize_or_zero(sl_sub(L, sl_scale(N, NoL)));
+    const sl_v3 Vt = ON_normalize_or_zero(sl_sub(V, sl_scale(N, nv)));
+    const float t = fmax(sl_dot(Lt, Vt), 0.0f);
     const float a = fmax(lit_a, view_a);
     const float b = 0.95f * fmin(lit_a, view_a);
     const float f = mc->c[0] + mc->c[1] * t * sin(a) * tan(b);
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // ---- Fujii's improved Oren-Nayar ------------------------------------------------------------------------------
@@ -273,13 +290,13 @@ SL_INLINE float3 oren_nayar_blender_eval(float3 N, float3 L, float3 V, float3 P,
 // This is "FON", the single-scattering lobe of EON. c[0] = pi A, c[1] = pi B.
 SL_INLINE float ON_s_over_t(float s, float NoL, float NoVc) { return s > 0.0f ? s / fmax(NoL, NoVc) : s; }
 
-SL_INLINE float3 oren_nayar_fujii_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float st = ON_s_over_t(ON_s(dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
     const float f = mc->c[0] + mc->c[1] * st;
-    return NoL > 0.0f ? sl_albedo(mc) * (NoL * f) : (float3)(0.0f);
+    return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
 // Fujii's s/t form with his constants "to match the result with full O-N" (sigma in radians):
@@ -287,13 +304,18 @@ SL_INLINE float3 oren_nayar_fujii_eval(float3 N, float3 L, float3 V, float3 P, _
 //   value = albedo * NoL * (pi A + pi B s / t)
 // The albedo inside A is the full model's interreflection term with its angular factor dropped. Not energy
 // conserving (Fujii: violated for albedo > 0.97). c[0] = x, c[1] = y, c[2] = z: pi A = x + albedo y, pi B = z.
-SL_INLINE float3 oren_nayar_fujii_full_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+// One channel, rho NoL (x + rho y + z s/t) for albedo rho; 0 for NoL <= 0.
+SL_INLINE float ON_fujii_full_channel(float rho, float NoL, float st, __constant const ModelConsts* mc) {
+    return NoL > 0.0f ? rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * st) : 0.0f;
+}
+SL_INLINE sl_rgb oren_nayar_fujii_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float st = ON_s_over_t(ON_s(dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    const float3 rho = sl_albedo(mc);
-    return NoL > 0.0f ? rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * st) : (float3)(0.0f);
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
+    return sl_rgb_make(ON_fujii_full_channel(mc->albedo[0], NoL, st, mc),
+                       ON_fujii_full_channel(mc->albedo[1], NoL, st, mc),
+                       ON_fujii_full_channel(mc->albedo[2], NoL, st, mc));
 }
 
 // ---- EON: energy-preserving Oren-Nayar -----------------------------------------------------------------------
@@ -327,34 +349,40 @@ SL_INLINE float E_FON_G_over_pi_approx(float mu) {
     return m * (0.0571085289f + m * (0.491881867f + m * (-0.332181442f + m * 0.0714429953f)));
 }
 
-SL_INLINE float3 EON_value(float NoL, float NoV, float s, float g_i, float g_o, __constant const ModelConsts* mc) {
+// One channel of EON's value, NoL (f_ss + f_ms) for albedo rho (st = s/t, g_i, g_o = G/pi at NoL, NoV).
+SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o, __constant const ModelConsts* mc) {
     const float AF = mc->c[0], r = mc->c[1], Ebar = mc->c[2], k_ms = mc->c[3], c1 = mc->c[4];
-    const float st = ON_s_over_t(s, NoL, fmax(NoV, 0.0f));
-    const float3 rho = sl_albedo(mc);
-    const float3 f_ss = rho * (AF * (1.0f + r * st));
+    const float f_ss = rho * (AF * (1.0f + r * st));
     // 1 - albedo (1 - Ebar) >= Ebar > 0.83 for albedo <= 1; the floor only matters for albedo > 5.9, where the
     // series behind rho_ms diverges (non-physical input), and keeps the value finite there.
-    const float3 rho_ms = rho * rho * Ebar / fmax(1.0f - rho * (1.0f - Ebar), 1e-3f);
+    const float rho_ms = rho * rho * Ebar / fmax(1.0f - rho * (1.0f - Ebar), 1e-3f);
     // max(0, .): the polynomial fit slightly exceeds c1 near mu = 0 (by 4e-4); the listing clamps 1 - E there.
-    const float3 f_ms = rho_ms * (k_ms * fmax(c1 - g_o, 0.0f) * fmax(c1 - g_i, 0.0f));
-    return NoL > 0.0f ? NoL * (f_ss + f_ms) : (float3)(0.0f);
+    const float f_ms = rho_ms * (k_ms * fmax(c1 - g_o, 0.0f) * fmax(c1 - g_i, 0.0f));
+    return NoL > 0.0f ? NoL * (f_ss + f_ms) : 0.0f;
 }
 
-SL_INLINE float3 eon_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb EON_value(float NoL, float NoV, float s, float g_i, float g_o, __constant const ModelConsts* mc) {
+    const float st = ON_s_over_t(s, NoL, fmax(NoV, 0.0f));
+    return sl_rgb_make(EON_channel(mc->albedo[0], NoL, st, g_i, g_o, mc),
+                       EON_channel(mc->albedo[1], NoL, st, g_i, g_o, mc),
+                       EON_channel(mc->albedo[2], NoL, st, g_i, g_o, mc));
+}
+
+SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float s = ON_s(dot(L, V), NoL, NoV, ON_sin_theta(N, V));
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
     return EON_value(NoL, NoV, s, E_FON_G_over_pi(fmax(NoL, 0.0f)), E_FON_G_over_pi(fmax(NoV, 0.0f)), mc);
 }
 
 // EON with the paper's fitted E_FON (its E_FON_approx): cheaper (no acos, sqrt); the white furnace deviates
 // from 1 by the fit's error (docs).
-SL_INLINE float3 eon_approx_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb eon_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float NoV = dot(N, V);
-    const float s = ON_s(dot(L, V), NoL, NoV, ON_sin_theta(N, V));
+    const float NoL = sl_dot(N, L);
+    const float NoV = sl_dot(N, V);
+    const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
     return EON_value(NoL, NoV, s, E_FON_G_over_pi_approx(fmax(NoL, 0.0f)), E_FON_G_over_pi_approx(fmax(NoV, 0.0f)),
                      mc);
 }

@@ -6,8 +6,9 @@
 //                      (1 - ks) so that albedo, specular <= 1 conserve energy for every ks in [0, 1]
 // Value convention of common.cl. docs/models/phong.md: formulas, sources, ranges, measured errors.
 //
-// Notation: NoL, NoV, LoV, NoH dot products; R = reflect(-L, N) = 2 NoL N - L; RoV = dot(R, V);
-// H = normalize(L + V); n = exponent; ks = specular weight; albedo = sl_albedo, specular colour = sl_specular.
+// Notation: NoL, NoV, LoV, NoH dot products; R = reflect(-L, N) = 2 NoL N - L; RoV = sl_dot(R, V);
+// H = normalize(L + V); n = exponent; ks = specular weight; albedo, specular colour from the constants
+// (common.cl's sl_diffuse_specular: value = albedo * d + specular * s, per channel).
 //
 // Exponent conventions: pow(0, 0) = 1 in C/OpenCL, which would light every direction at n = 0 even
 // where RoV (NoH) <= 0. Here the power is x^n for x > 0 and 0 for x <= 0 at every n, so n = 0 is the
@@ -21,7 +22,7 @@
 
 // RoV with R = reflect(-L, N) = 2 NoL N - L, written from the dot products:
 //   RoV = 2 NoL NoV - LoV,
-// exactly equal to dot(reflect(-L, N), V), cheaper, and symmetric in L and V by construction
+// exactly equal to sl_dot(reflect(-L, N), V), cheaper, and symmetric in L and V by construction
 // (R(L).V == R(V).L, Phong's lobe is reciprocal).
 SL_INLINE float Phong_RoV(float NoL, float NoV, float LoV) { return 2.0f * NoL * NoV - LoV; }
 
@@ -29,10 +30,10 @@ SL_INLINE float Phong_RoV(float NoL, float NoV, float LoV) { return 2.0f * NoL *
 // direction of approach, NoH anywhere in [-sqrt(1 - NoL^2), sqrt(1 - NoL^2)]): there NoH is taken as 0,
 // so the highlight is 0 (the sum L + V of nearly opposite float vectors is exact, so any pair that
 // is not opposite within float resolution has |L + V| far above the 1e-10 cut and a well-defined H).
-SL_INLINE float BlinnPhong_NoH(float3 N, float3 L, float3 V) {
-    const float3 h = L + V;
-    const float hh = dot(h, h);
-    return hh > 1e-20f ? dot(N, h) * rsqrt(hh) : 0.0f;
+SL_INLINE float BlinnPhong_NoH(sl_v3 N, sl_v3 L, sl_v3 V) {
+    const sl_v3 h = sl_add(L, V);
+    const float hh = sl_dot(h, h);
+    return hh > 1e-20f ? sl_dot(N, h) * rsqrt(hh) : 0.0f;
 }
 
 // The cosine power x^n of both lobes (x = RoV or NoH), 0 for x <= 0 at every n including n = 0
@@ -49,22 +50,22 @@ SL_INLINE float Spec_Gate(float NoL) { return NoL > 0.0f ? 1.0f : 0.0f; }
 // phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, RoV)^n
 // c[0] = n in [0, 10000], c[1] = ks in [0, 10]. Leaves out: energy conservation (the lobe is not
 // normalised and carries no NoL), reciprocity, Fresnel. Not reciprocal: value / NoL has RoV^n / NoL.
-SL_INLINE float3 phong_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float RoV = Phong_RoV(NoL, dot(N, V), dot(L, V));
+    const float NoL = sl_dot(N, L);
+    const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
     const float spec = mc->c[1] * Spec_Gate(NoL) * Spec_Power(RoV, mc->c[0]);
-    return sl_albedo(mc) * Fd_Lambert_cos(NoL) + sl_specular(mc) * spec;
+    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
 // phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, RoV)^(gloss / 4)
 // Seed 001 exactly: the highlight is not gated, so a light below the horizon lights up points where
 // RoV > 0. c[0] = n = gloss / 4 (host), c[1] = specular_power.
-SL_INLINE float3 phong_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float RoV = Phong_RoV(NoL, dot(N, V), dot(L, V));
-    return sl_albedo(mc) * Fd_Lambert_cos(NoL) + sl_specular(mc) * (mc->c[1] * Spec_Power(RoV, mc->c[0]));
+    const float NoL = sl_dot(N, L);
+    const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
+    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), mc->c[1] * Spec_Power(RoV, mc->c[0]));
 }
 
 // phong_normalized: the modified Phong BRDF (Lewis 1994, "Making shaders more physically plausible";
@@ -73,12 +74,12 @@ SL_INLINE float3 phong_seed001_eval(float3 N, float3 L, float3 V, float3 P, __co
 // The lobe's directional albedo is exactly 1 at V = N and less elsewhere, so the model conserves
 // energy for albedo, specular <= 1 and any ks in [0, 1] (Lafortune's kd + ks <= 1 built in).
 // Reciprocal (value / NoL is symmetric). c[0] = n, c[1] = 1 - ks, c[2] = ks (n + 2) / 2 (host).
-SL_INLINE float3 phong_normalized_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
-    const float RoV = Phong_RoV(NoL, dot(N, V), dot(L, V));
+    const float NoL = sl_dot(N, L);
+    const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
     const float cosine = Fd_Lambert_cos(NoL);
-    return sl_albedo(mc) * (mc->c[1] * cosine) + sl_specular(mc) * (mc->c[2] * Spec_Power(RoV, mc->c[0]) * cosine);
+    return sl_diffuse_specular(mc, mc->c[1] * cosine, mc->c[2] * Spec_Power(RoV, mc->c[0]) * cosine);
 }
 
 // ---- Blinn-Phong (Blinn 1977, "Models of light reflection for computer synthesized pictures") ------
@@ -86,21 +87,21 @@ SL_INLINE float3 phong_normalized_eval(float3 N, float3 L, float3 V, float3 P, _
 // blinn_phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, NoH)^n
 // c[0] = n in [0, 10000], c[1] = ks in [0, 10]. (Seed 001 names the N.H variable "NdotV".)
 // NoH^(4n) has about the width of RoV^n near the peak, hence the seed's gloss vs gloss / 4.
-SL_INLINE float3 blinn_phong_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb blinn_phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
+    const float NoL = sl_dot(N, L);
     const float spec = mc->c[1] * Spec_Gate(NoL) * Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_albedo(mc) * Fd_Lambert_cos(NoL) + sl_specular(mc) * spec;
+    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
 // blinn_phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, NoH)^gloss
 // Seed 001 exactly (ungated). c[0] = n = gloss, c[1] = specular_power.
-SL_INLINE float3 blinn_phong_seed001_eval(float3 N, float3 L, float3 V, float3 P,
+SL_INLINE sl_rgb blinn_phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                           __constant const ModelConsts* mc) {
     (void)P;
-    const float NoL = dot(N, L);
+    const float NoL = sl_dot(N, L);
     const float spec = mc->c[1] * Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_albedo(mc) * Fd_Lambert_cos(NoL) + sl_specular(mc) * spec;
+    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
 // blinn_phong_normalized: f_r = (1 - ks) albedo / pi + ks specular K_n / pi NoH^n with the exact
@@ -109,19 +110,19 @@ SL_INLINE float3 blinn_phong_seed001_eval(float3 N, float3 L, float3 V, float3 P
 // which makes the lobe's directional albedo exactly 1 at V = N (less elsewhere):
 //   value = (1 - ks) * albedo * max(0, NoL) + ks * specular * K_n * max(0, NoH)^n * max(0, NoL).
 // c[0] = n, c[1] = 1 - ks, c[2] = ks K_n (host). Reciprocal (H is symmetric in L, V).
-SL_INLINE float3 blinn_phong_normalized_eval(float3 N, float3 L, float3 V, float3 P,
+SL_INLINE sl_rgb blinn_phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                              __constant const ModelConsts* mc) {
     (void)P;
-    const float cosine = Fd_Lambert_cos(dot(N, L));
+    const float cosine = Fd_Lambert_cos(sl_dot(N, L));
     const float lobe = Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_albedo(mc) * (mc->c[1] * cosine) + sl_specular(mc) * (mc->c[2] * lobe * cosine);
+    return sl_diffuse_specular(mc, mc->c[1] * cosine, mc->c[2] * lobe * cosine);
 }
 
 // blinn_phong_normalized_approx: the same with the common approximation K_n = (n + 8) / 8 (the
 // (n + 8) / (8 pi) factor of Akenine-Moller, Haines, Hoffman, Real-Time Rendering 3rd ed., 2008).
 // It is NOT energy conserving: it exceeds the exact K_n for every n > 0 and the lobe's directional
 // albedo at V = N reaches 1.074 at n = 11 (measured in tests/test_phong.cpp). c[2] = ks (n + 8) / 8.
-SL_INLINE float3 blinn_phong_normalized_approx_eval(float3 N, float3 L, float3 V, float3 P,
+SL_INLINE sl_rgb blinn_phong_normalized_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                                     __constant const ModelConsts* mc) {
     return blinn_phong_normalized_eval(N, L, V, P, mc);   // same form; only the host's c[2] differs
 }

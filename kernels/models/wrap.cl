@@ -47,67 +47,44 @@ SL_INLINE float Fd_Wrap(float NoL, float w, float inv_sq) { return sl_saturate((
 // half_lambert: value = albedo * ((NoL + 1) / 2)^2, NoL unclamped (Valve's form; the reference).
 // Parameters: none. Leaves out: any physical basis (not reciprocal, directional albedo 7/6 over the
 // hemisphere, 4/3 over the sphere).
-SL_INLINE float half_lambert_nol(float NoL, __constant const ModelConsts* mc) {
-    (void)mc;
-    return Fd_HalfLambert(NoL);
-}
-#define SL_HAS_NOL_half_lambert_eval 1
-#define SL_NOL_half_lambert_eval half_lambert_nol
-SL_INLINE float3 half_lambert_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb half_lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * half_lambert_nol(dot(N, L), mc);
+    const float NoL = sl_dot(N, L);
+    return sl_albedo_times(mc, Fd_HalfLambert(NoL));
 }
 
 // half_lambert_seed001: value = albedo * ((max(0, NoL) + 1) / 2)^2 -- seed 001's code, which clamps NoL
 // BEFORE the half-Lambert mapping, so every back-facing point gets a flat 0.25 instead of fading to 0.
 // Kept as a named variant; the deviation (up to 0.25 * albedo at NoL = -1) is measured in the tests.
-SL_INLINE float half_lambert_seed001_nol(float NoL, __constant const ModelConsts* mc) {
-    (void)mc;
-    return Fd_HalfLambert(fmax(NoL, 0.0f));
-}
-#define SL_HAS_NOL_half_lambert_seed001_eval 1
-#define SL_NOL_half_lambert_seed001_eval half_lambert_seed001_nol
-SL_INLINE float3 half_lambert_seed001_eval(float3 N, float3 L, float3 V, float3 P,
-                                           __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb half_lambert_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * half_lambert_seed001_nol(dot(N, L), mc);
+    const float NoL = sl_dot(N, L);
+    return sl_albedo_times(mc, Fd_HalfLambert(fmax(NoL, 0.0f)));
 }
 
 // wrap: value = albedo * max(0, NoL * a + (1 - a))^2, NoL unclamped, a = wrap_value in [0.5, 1]
 // (c[0] = a, c[1] = 1 - a). a = 0.5: half_lambert; a = 1: max(0, NoL)^2 (narrower than Lambert).
-SL_INLINE float wrap_nol(float NoL, __constant const ModelConsts* mc) {
-    return Fd_WrapSquared(NoL, mc->c[0], mc->c[1]);
-}
-#define SL_HAS_NOL_wrap_eval 1
-#define SL_NOL_wrap_eval wrap_nol
-SL_INLINE float3 wrap_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * wrap_nol(dot(N, L), mc);
+    const float NoL = sl_dot(N, L);
+    return sl_albedo_times(mc, Fd_WrapSquared(NoL, mc->c[0], mc->c[1]));
 }
 
 // wrap_seed001: value = albedo * (max(0, NoL) * a + (1 - a))^2 -- the seed's code applied to the wrap
 // formula: NoL clamped first, so the back side gets a flat (1 - a)^2. (c[0] = a, c[1] = 1 - a.)
-SL_INLINE float wrap_seed001_nol(float NoL, __constant const ModelConsts* mc) {
-    return Fd_WrapSquared(fmax(NoL, 0.0f), mc->c[0], mc->c[1]);
-}
-#define SL_HAS_NOL_wrap_seed001_eval 1
-#define SL_NOL_wrap_seed001_eval wrap_seed001_nol
-SL_INLINE float3 wrap_seed001_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * wrap_seed001_nol(dot(N, L), mc);
+    const float NoL = sl_dot(N, L);
+    return sl_albedo_times(mc, Fd_WrapSquared(fmax(NoL, 0.0f), mc->c[0], mc->c[1]));
 }
 
 // wrap_energy: value = albedo * saturate((NoL + w) / (1 + w)^2) (Filament's Fd_Wrap; c[0] = w,
 // c[1] = 1 / (1 + w)^2). Directional albedo over the sphere of light directions: exactly 1 for every w;
 // over the upper hemisphere (1 + 2w) / (1 + w)^2 <= 1. Leaves out: reciprocity, any V dependence.
-SL_INLINE float wrap_energy_nol(float NoL, __constant const ModelConsts* mc) {
-    return Fd_Wrap(NoL, mc->c[0], mc->c[1]);
-}
-#define SL_HAS_NOL_wrap_energy_eval 1
-#define SL_NOL_wrap_energy_eval wrap_energy_nol
-SL_INLINE float3 wrap_energy_eval(float3 N, float3 L, float3 V, float3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_energy_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo(mc) * wrap_energy_nol(dot(N, L), mc);
+    const float NoL = sl_dot(N, L);
+    return sl_albedo_times(mc, Fd_Wrap(NoL, mc->c[0], mc->c[1]));
 }
 
 #endif
