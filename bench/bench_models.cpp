@@ -10,12 +10,11 @@
 // that call transcendental functions, in precise mode, >= 5x the C++ loop; every model >= 0.5 of copy. A missed
 // target prints "MISS: <value>, target <target>".
 //
-// What limits the kernels here (measured on PoCL 3.1 / LLVM 15, CPU driver): PoCL's work-item loop vectoriser
+// What shapes the kernels here (measured on PoCL 3.1 / LLVM 15, CPU driver): PoCL's work-item loop vectoriser
 // rejects every vector-typed instruction ("loop not vectorized: instruction return type cannot be vectorized",
-// shown with POCL_VECTORIZER_REMARKS=1 POCL_KERNEL_CACHE=0), and every model's eval is float3 code, so
-// shade_fragments runs one fragment at a time in scalar instructions: the 8-16 lanes of the CPU's vector units
-// stay idle. The plain C++ loops are scalar too, hence the x C++ ratios near 1. Models of N.L alone take a
-// float3-free path in kernels/shade.cl and come closest to the copy kernel.
+// shown with POCL_VECTORIZER_REMARKS=1 POCL_KERNEL_CACHE=0), so the models are written float3-free (sl_v3 and
+// sl_rgb in kernels/common.cl) and shade_fragments runs 8 fragments per instruction. Models that call atan2,
+// acos, sin, cos or tan (PoCL's are library calls the vectoriser cannot widen) still run one fragment at a time.
 //
 // usage: bench_models [--smoke | --quick] [--sizes 1M,4M,16M] [--models a,b] [--modes precise,fast]
 //                     [--repeats N] [--local N|auto] [--local-sizes] [--csv FILE]

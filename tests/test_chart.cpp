@@ -94,10 +94,13 @@ TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow a
                   << "; rel p99 precise " << p.error.rel_p99 << " fast " << f.error.rel_p99 << "; dE00 mean precise "
                   << p.error.de_mean << " fast " << f.error.de_mean << "\n";
         INFO(model);
-        // Fast pow (exp2/log2) adds its own error to precise mode's: never less error, on the max and the p99.
+        // Fast pow (kernels/common.cl, sl_fast_pow) is within 1.7 ulp of correctly rounded for results in
+        // [2^-10, 1] and 5.5 ulp below (docs/precision.md), precise pow within 0.5: on a render the two differ by
+        // rounding in either direction (measured p99 fast / precise: phong 1.51e-6 / 1.56e-6, blinn_phong
+        // 3.07e-6 / 3.08e-6, minnaert_1941 3.74e-7 / 3.49e-7). Fast may not be worse by more than a quarter.
         // (Delta E of errors near 1e-6 is rounding noise in either direction, so it is printed, not compared.)
-        CHECK(f.error.rel_max >= p.error.rel_max);
-        CHECK(f.error.rel_p99 >= p.error.rel_p99);
+        CHECK(f.error.rel_max <= 1.25 * p.error.rel_max);
+        CHECK(f.error.rel_p99 <= 1.25 * p.error.rel_p99);
         // ... and fast mode really took effect: otherwise the comparison above would be one program with itself.
         const Image a = s.kernel_image(chart_material(model), Precision::Precise);
         const Image b = s.kernel_image(chart_material(model), Precision::Fast);
