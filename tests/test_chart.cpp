@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "speed/chart.hpp"
@@ -35,15 +36,6 @@ Scorer tiny_scorer(Runtime& rt) {
     o.timed_fragments = 20000;
     o.timing_repeats = 1;
     return Scorer(rt, {make_view("icosphere3", make_icosphere(3), from, 64, 64)}, o);
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-    std::vector<std::string> out;
-    std::string cur;
-    std::istringstream in(s);
-    while (std::getline(in, cur, sep)) out.push_back(cur);
-    if (!s.empty() && s.back() == sep) out.push_back("");
-    return out;
 }
 
 }  // namespace

@@ -5,19 +5,11 @@
 
 #include "app/commands.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace shadelab::app {
 
 namespace {
-std::vector<std::string> split(const std::string& s, char sep) {
-    std::vector<std::string> out;
-    std::string cur;
-    std::istringstream in(s);
-    while (std::getline(in, cur, sep)) out.push_back(cur);
-    if (!s.empty() && s.back() == sep) out.push_back("");
-    return out;
-}
-
 double parse_number(const std::string& t, const std::string& what) {
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
