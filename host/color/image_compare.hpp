@@ -7,12 +7,16 @@
 
 namespace shadelab {
 
-struct ImageDiff {
+// The figures of a comparison, without the map: what tables and charts keep per image pair.
+struct DiffFigures {
     std::size_t pixels = 0;            // pixels compared (covered in both, when both have alpha)
     std::size_t coverage_mismatch = 0; // covered in one image only (not compared, counted)
     double de_mean = 0.0, de_p99 = 0.0, de_max = 0.0;   // CIEDE2000
     double rel_max = 0.0, rel_p99 = 0.0;  // |a - b| / |b| per channel, where |b| >= rel_floor
     double abs_max = 0.0;
+};
+
+struct ImageDiff : DiffFigures {
     Image de_map;                      // width x height x 1: Delta E 2000 per pixel (0 where not compared)
 };
 

@@ -102,6 +102,26 @@ std::string speed_panel(const std::string& csv, const std::vector<ChartRow>& row
     return s.str();
 }
 
+// The error figures of a comparison, as CSV columns: the names, and one row's values (same order).
+const std::vector<std::string> kFigureColumns = {"rel_max",    "rel_p99",  "de2000_mean", "de2000_p99",
+                                                 "de2000_max", "abs_max", "pixels",      "coverage_mismatch"};
+moon::CsvTable& add_figures(moon::CsvTable& t, const DiffFigures& e) {
+    return t.add(e.rel_max, 4)
+        .add(e.rel_p99, 4)
+        .add(e.de_mean, 4)
+        .add(e.de_p99, 4)
+        .add(e.de_max, 4)
+        .add(e.abs_max, 4)
+        .add(double(e.pixels))
+        .add(double(e.coverage_mismatch));
+}
+
+// Column names: `head`, the figures, `tail`.
+std::vector<std::string> columns(std::vector<std::string> head, const std::vector<std::string>& tail) {
+    head.insert(head.end(), kFigureColumns.begin(), kFigureColumns.end());
+    head.insert(head.end(), tail.begin(), tail.end());
+    return head;
+}
 }  // namespace
 
 void mark_fronts(std::vector<ChartRow>& rows) {
@@ -118,9 +138,8 @@ void mark_fronts(std::vector<ChartRow>& rows) {
 }
 
 moon::CsvTable speed_table(const std::vector<ChartRow>& rows) {
-    moon::CsvTable t({"model", "family", "mode", "mfrag_per_s", "kernel_ms", "timed_fragments", "rel_max", "rel_p99",
-                      "de2000_mean", "de2000_p99", "de2000_max", "abs_max", "pixels", "coverage_mismatch",
-                      "front_de2000_p99", "front_rel_max", "plot_de2000_p99", "plot_rel_max"});
+    moon::CsvTable t(columns({"model", "family", "mode", "mfrag_per_s", "kernel_ms", "timed_fragments"},
+                             {"front_de2000_p99", "front_rel_max", "plot_de2000_p99", "plot_rel_max"}));
     for (const auto& r : rows) {
         const Score& s = r.score;
         t.row()
@@ -129,15 +148,8 @@ moon::CsvTable speed_table(const std::vector<ChartRow>& rows) {
             .add(precision_name(s.precision))
             .add(s.fragments_per_s * 1e-6, 6)
             .add(s.kernel_ms, 6)
-            .add(double(s.timed_fragments))
-            .add(s.error.rel_max, 4)
-            .add(s.error.rel_p99, 4)
-            .add(s.error.de_mean, 4)
-            .add(s.error.de_p99, 4)
-            .add(s.error.de_max, 4)
-            .add(s.error.abs_max, 4)
-            .add(double(s.error.pixels))
-            .add(double(s.error.coverage_mismatch))
+            .add(double(s.timed_fragments));
+        add_figures(t, s.error)
             .add(r.front_de ? 1.0 : 0.0)
             .add(r.front_rel ? 1.0 : 0.0)
             .add(de_plotted(s), 4)
@@ -164,10 +176,9 @@ moon::CsvTable subdivision_table(std::vector<SubdivisionRow> rows) {
     std::stable_sort(rows.begin(), rows.end(), [](const SubdivisionRow& a, const SubdivisionRow& b) {
         return std::tie(a.surface, a.model, a.per_vertex, a.level) < std::tie(b.surface, b.model, b.per_vertex, b.level);
     });
-    moon::CsvTable t({"surface", "reference", "level", "triangles", "vertices", "model", "evaluation", "per_vertex", "rel_max",
-                      "rel_p99", "de2000_mean", "de2000_p99", "de2000_max", "abs_max", "pixels", "coverage_mismatch",
-                      "plot_de2000_p99", "plot_de2000_mean"});
-    for (const auto& r : rows)
+    moon::CsvTable t(columns({"surface", "reference", "level", "triangles", "vertices", "model", "evaluation", "per_vertex"},
+                             {"plot_de2000_p99", "plot_de2000_mean"}));
+    for (const auto& r : rows) {
         t.row()
             .add(r.surface)
             .add(r.reference)
@@ -176,17 +187,11 @@ moon::CsvTable subdivision_table(std::vector<SubdivisionRow> rows) {
             .add(double(r.vertices))
             .add(r.model)
             .add(r.per_vertex ? "per_vertex" : "per_pixel")
-            .add(r.per_vertex ? 1.0 : 0.0)
-            .add(r.error.rel_max, 4)
-            .add(r.error.rel_p99, 4)
-            .add(r.error.de_mean, 4)
-            .add(r.error.de_p99, 4)
-            .add(r.error.de_max, 4)
-            .add(r.error.abs_max, 4)
-            .add(double(r.error.pixels))
-            .add(double(r.error.coverage_mismatch))
+            .add(r.per_vertex ? 1.0 : 0.0);
+        add_figures(t, r.error)
             .add(std::max(r.error.de_p99, kDeltaEFloor), 4)
             .add(std::max(r.error.de_mean, kDeltaEFloor), 4);
+    }
     return t;
 }
 

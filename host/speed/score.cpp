@@ -49,19 +49,6 @@ Material chart_material(const std::string& model) {
     return resolve_material(m, "chart, model '" + info.name + "'");
 }
 
-ErrorFigures figures_from(const ImageDiff& d) {
-    ErrorFigures e;
-    e.rel_max = d.rel_max;
-    e.rel_p99 = d.rel_p99;
-    e.de_mean = d.de_mean;
-    e.de_p99 = d.de_p99;
-    e.de_max = d.de_max;
-    e.abs_max = d.abs_max;
-    e.pixels = d.pixels;
-    e.coverage_mismatch = d.coverage_mismatch;
-    return e;
-}
-
 Scorer::Scorer(Runtime& runtime, std::vector<ScoreView> views, ScoreOptions options)
     : rt_(runtime), shader_(runtime), views_(std::move(views)), opt_(std::move(options)) {
     if (views_.empty()) throw Error("chart: no view to score on (give at least one --mesh)");
@@ -152,7 +139,7 @@ Score Scorer::score(const Material& material, Precision precision) {
     Score s;
     s.model = material.model;
     s.precision = precision;
-    s.error = figures_from(compare_images(kernel_image(material, precision), reference_image(material), opt_.rel_floor));
+    s.error = compare_images(kernel_image(material, precision), reference_image(material), opt_.rel_floor);   // figures only
     const double best = time_kernel(material, precision);
     s.kernel_ms = best;
     s.timed_fragments = timing_.size();

@@ -45,14 +45,6 @@ std::vector<Light> chart_lights(const glm::dvec3& view_from);
 // (0.2, 0.45, 0.85), as on the contact sheet.
 Material chart_material(const std::string& model);
 
-struct ErrorFigures {
-    double rel_max = 0.0, rel_p99 = 0.0;               // relative error where the reference >= rel_floor
-    double de_mean = 0.0, de_p99 = 0.0, de_max = 0.0;  // CIEDE2000
-    double abs_max = 0.0;
-    std::size_t pixels = 0;                            // pixels compared
-    std::size_t coverage_mismatch = 0;                 // covered in one image only (not compared)
-};
-ErrorFigures figures_from(const ImageDiff& d);
 
 struct Score {
     std::string model;
@@ -60,7 +52,7 @@ struct Score {
     double kernel_ms = 0.0;          // best of the timing runs
     std::size_t timed_fragments = 0;
     double fragments_per_s = 0.0;
-    ErrorFigures error;
+    DiffFigures error;
 };
 
 struct ScoreOptions {

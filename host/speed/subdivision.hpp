@@ -30,7 +30,7 @@ struct SubdivisionRow {
     std::size_t triangles = 0, vertices = 0;
     std::string model;
     bool per_vertex = false;
-    ErrorFigures error;
+    DiffFigures error;
 };
 
 struct SubdivisionOptions {
