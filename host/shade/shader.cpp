@@ -124,9 +124,12 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         auto ro = [&](const std::vector<float>& v) {
             if (padded == n)
                 return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
-            std::vector<float> p(padded, 0.0f);   // the padding shades (0, 0, 0) fragments, never read back
-            std::copy(v.begin(), v.end(), p.begin());
-            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, p.data());
+            // The n floats go straight into the buffer (no padded host copy); the padding is zero-filled and
+            // shades (0, 0, 0) fragments, never read back.
+            cl::Buffer b(ctx, CL_MEM_READ_ONLY, bytes);
+            q.enqueueWriteBuffer(b, CL_TRUE, 0, n * sizeof(float), v.data());
+            q.enqueueFillBuffer(b, 0.0f, n * sizeof(float), bytes - n * sizeof(float));
+            return b;
         };
         cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
                    bnz = ro(fb.nz);
