@@ -7,6 +7,7 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "scene/batch.hpp"
 #include "scene/contact.hpp"
 #include "scene/scene.hpp"
@@ -36,7 +37,7 @@ struct ContactArgs {
 };
 
 void print_contact(const ContactResult& r) {
-    std::cerr << "contact sheet: " << r.models << " models, " << r.width << "x" << r.height << ", "
+    log_out() << "contact sheet: " << r.models << " models, " << r.width << "x" << r.height << ", "
               << (r.labelled ? "labels in " + r.font : "labels in " + r.legend) << ", " << int(r.ms) << " ms\n";
     std::cout << r.output << "\n";
 }
@@ -54,6 +55,7 @@ void run_batch_command(const BatchArgs& a) {
     o.force = a.force;
     o.overlap = !a.no_overlap;
     o.progress = parse_progress_style(a.progress);
+    if (log_level() == LogLevel::Quiet) o.progress = parse_progress_style("quiet");   // the global -q
     if (a.tolerance < 0.0) throw Error("--tolerance must be > 0 (0 = off)");
     o.tolerance = a.tolerance;
     if (a.metric != "de2000" && a.metric != "relative") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
@@ -110,13 +112,14 @@ void add_batch_command(CLI::App& app) {
                                    "One image with every model of the catalogue (default parameters) on a sphere "
                                    "and on a mesh, labelled");
     con->add_option("-o,--output", c->opt.output, "Output image (.png sRGB or .exr linear)")->capture_default_str();
-    con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere")->capture_default_str();
+    con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere (default: the bundled spot.obj)");
     con->add_option("--turn", c->opt.mesh_turn_deg, "Turn the mesh this many degrees about +y")->capture_default_str();
     con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();
     con->add_option("--columns", c->opt.columns, "Model tiles per row (0: about 4:3)")->capture_default_str();
     con->add_option("-m,--model", c->models, "Only these models (repeatable; default: the whole catalogue)");
     con->callback([c] {
         ContactOptions o = c->opt;
+        for (const auto& m : c->models) require_model_name(m, "--model");
         o.models = c->models;
         Runtime rt;
         const ContactResult r = make_contact_sheet(o, rt);

@@ -13,6 +13,8 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
+#include "core/assets.hpp"
 #include "mesh/mesh.hpp"
 #include "models/catalogue.hpp"
 #include "speed/chart.hpp"
@@ -27,7 +29,7 @@ namespace {
 
 struct ChartArgs {
     std::string out = "out/chart";
-    std::vector<std::string> meshes{"meshes/spot.obj", "meshes/teapot.obj"};
+    std::vector<std::string> meshes;   // empty: the bundled spot.obj and teapot.obj
     std::string size = "256x256";
     std::vector<std::string> models;   // empty: the whole catalogue
     std::vector<std::string> modes{"precise", "fast"};
@@ -78,13 +80,12 @@ void run_chart(const ChartArgs& a) {
     if (a.fragments < 1000 || a.fragments > 64ll << 20) throw Error("--fragments must be in [1000, 67108864]");
     if (a.repeats < 1 || a.repeats > 100) throw Error("--repeats must be in [1, 100]");
     if (a.rounds < 1 || a.rounds > 20) throw Error("--rounds must be in [1, 20]");
-    if (a.meshes.empty()) throw Error("give at least one --mesh");
     // Everything the user typed is checked before the long run.
     std::vector<std::string> models = a.models;
     if (models.empty())
         for (const auto& m : model_catalogue()) models.push_back(m.name);
-    for (const auto& m : models) find_model(m);
-    for (const auto& m : a.subdiv_models) find_model(m);
+    for (const auto& m : models) require_model_name(m, "--models");
+    for (const auto& m : a.subdiv_models) require_model_name(m, "--subdiv-models");
     std::vector<Precision> modes;
     for (const auto& m : a.modes) modes.push_back(parse_precision(m));
     if (modes.empty()) throw Error("--modes is empty: give precise, fast or both");
@@ -103,7 +104,9 @@ void run_chart(const ChartArgs& a) {
     std::vector<Mesh> loaded;
     std::vector<speed::ScoreView> views;
     std::string mesh_names;
-    for (const auto& p : a.meshes) {
+    const std::vector<std::string> meshes =
+        a.meshes.empty() ? std::vector<std::string>{bundled_mesh("spot.obj"), bundled_mesh("teapot.obj")} : a.meshes;
+    for (const auto& p : meshes) {
         loaded.push_back(load_mesh(p));
         const std::string name = fs::path(p).filename().string();
         views.push_back(speed::make_view(name, loaded.back(), view_from, w, h));
@@ -115,7 +118,7 @@ void run_chart(const ChartArgs& a) {
     so.timed_fragments = std::size_t(a.fragments);
     so.timing_repeats = a.repeats;
     speed::Scorer scorer(rt, views, so);
-    std::cerr << "chart: " << models.size() << " models x " << modes.size() << " modes on " << mesh_names << " at "
+    shadelab::log_out() << "chart: " << models.size() << " models x " << modes.size() << " modes on " << mesh_names << " at "
               << w << "x" << h << "; speed over " << scorer.timed_fragments() << " fragments, best of " << a.repeats << " x "
               << a.rounds << " rounds; device " << rt.device_description() << "\n";
 
@@ -128,7 +131,7 @@ void run_chart(const ChartArgs& a) {
             r.score = scorer.score(m, p);
             rows.push_back(r);
             const auto& e = r.score.error;
-            std::cerr << "[" << rows.size() << "/" << total << "] " << std::left << std::setw(30) << name << std::setw(8)
+            shadelab::log_out() << "[" << rows.size() << "/" << total << "] " << std::left << std::setw(30) << name << std::setw(8)
                       << precision_name(p) << std::right << std::setw(9) << fmt(r.score.fragments_per_s * 1e-6, 4)
                       << " Mfrag/s   dE00 p99 " << std::setw(9) << fmt(e.de_p99) << "   rel max " << std::setw(9)
                       << fmt(e.rel_max) << "\n";
@@ -137,7 +140,7 @@ void run_chart(const ChartArgs& a) {
     // Further timing rounds over every row, keeping each row's best: load from other processes comes in
     // bursts, and a burst during one model's slot would otherwise decide its place on the chart.
     for (int round = 2; round <= a.rounds; ++round) {
-        std::cerr << "chart: timing round " << round << " of " << a.rounds << "\n";
+        shadelab::log_out() << "chart: timing round " << round << " of " << a.rounds << "\n";
         for (auto& r : rows) {
             const double ms = scorer.time_kernel(speed::chart_material(r.score.model), r.score.precision);
             if (ms < r.score.kernel_ms) {
@@ -154,13 +157,13 @@ void run_chart(const ChartArgs& a) {
                                  std::to_string(scorer.timed_fragments()) + " fragments; " + rt.device_description();
     speed::plot_speed_accuracy(csv, png, rows, subtitle);
     std::cout << csv << "\n" << png << "\n";
-    std::cerr << "Pareto front (p99 Delta E 2000):";
+    shadelab::log_out() << "Pareto front (p99 Delta E 2000):";
     for (const auto& r : rows)
-        if (r.front_de) std::cerr << " " << r.score.model << "/" << precision_name(r.score.precision);
-    std::cerr << "\nPareto front (max relative error):";
+        if (r.front_de) shadelab::log_out() << " " << r.score.model << "/" << precision_name(r.score.precision);
+    shadelab::log_out() << "\nPareto front (max relative error):";
     for (const auto& r : rows)
-        if (r.front_rel) std::cerr << " " << r.score.model << "/" << precision_name(r.score.precision);
-    std::cerr << "\n";
+        if (r.front_rel) shadelab::log_out() << " " << r.score.model << "/" << precision_name(r.score.precision);
+    shadelab::log_out() << "\n";
 
     if (!a.no_subdivision) {
         speed::SubdivisionOptions o;
@@ -168,9 +171,9 @@ void run_chart(const ChartArgs& a) {
         o.height = h;
         o.view_from = view_from;
         o.lights = so.lights;
-        std::cerr << "chart: subdivision - icosphere levels and Loop levels of " << views.front().name << "\n";
+        shadelab::log_out() << "chart: subdivision - icosphere levels and Loop levels of " << views.front().name << "\n";
         auto sub = speed::sphere_subdivision(rt, a.subdiv_models, a.sphere_levels, o);
-        std::cerr << "  icosphere done (" << sub.size() << " rows)\n";
+        shadelab::log_out() << "  icosphere done (" << sub.size() << " rows)\n";
         const auto mesh_rows =
             speed::mesh_subdivision(rt, views.front().name, loaded.front(), a.subdiv_models, a.mesh_levels, a.mesh_reference_level, o);
         sub.insert(sub.end(), mesh_rows.begin(), mesh_rows.end());
@@ -183,7 +186,7 @@ void run_chart(const ChartArgs& a) {
                                     "; icosphere reference: the exact sphere, ray-cast in double");
         std::cout << scsv << "\n" << spng << "\n";
     }
-    std::cerr << "chart: done in " << fmt(std::chrono::duration<double>(clock::now() - t_start).count(), 3) << " s\n";
+    shadelab::log_out() << "chart: done in " << fmt(std::chrono::duration<double>(clock::now() - t_start).count(), 3) << " s\n";
 }
 
 }  // namespace
@@ -194,7 +197,7 @@ void add_chart_command(CLI::App& app) {
         "chart", "Speed (fragments/s) against error vs the double reference for every model x precision mode, "
                  "with the Pareto front; and error against subdivision level, per pixel vs per vertex");
     cmd->add_option("--out", a->out, "Output folder: speed_accuracy.csv/.png, subdivision.csv/.png")->capture_default_str();
-    cmd->add_option("--mesh", a->meshes, "Mesh(es) to score on (repeatable); the first is also Loop-subdivided")
+    cmd->add_option("--mesh", a->meshes, "Mesh(es) to score on (repeatable; default: the bundled spot.obj and teapot.obj); the first is also Loop-subdivided")
         ->capture_default_str();
     cmd->add_option("--size", a->size, "Render size of each mesh WIDTHxHEIGHT")->capture_default_str();
     cmd->add_option("--models", a->models, "Models, comma-separated (default: the whole catalogue)")->delimiter(',');

@@ -1,20 +1,105 @@
+// shadelab models / devices: what the catalogue holds and which OpenCL device runs it.
 #include <iomanip>
 #include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
 #include "models/catalogue.hpp"
 
 namespace shadelab::app {
 
+namespace {
+
+// The documentation page of a model: its family's page under docs/models/; Lambert is on the index page.
+std::string doc_page(const ModelInfo& m) {
+    return m.family == "lambert" ? "docs/models/README.md" : "docs/models/" + m.family + ".md";
+}
+
+nlohmann::json model_json(const ModelInfo& m) {
+    nlohmann::json params = nlohmann::json::array();
+    for (const auto& p : m.params)
+        params.push_back({{"name", p.name}, {"default", p.def}, {"min", p.lo}, {"max", p.hi},
+                          {"integer", p.integer}, {"doc", p.doc}});
+    return {{"name", m.name},
+            {"family", m.family},
+            {"summary", m.summary},
+            {"source", m.source},
+            {"params", params},
+            {"children", m.children},
+            {"reciprocal", m.reciprocal},
+            {"energy_conserving", m.energy_conserving},
+            {"kernel", m.header},
+            {"doc", doc_page(m)}};
+}
+
+// One model in full: parameters with defaults and ranges, flags, source, doc page.
+void print_model(const ModelInfo& m) {
+    std::cout << m.name << ": " << m.summary << "\n"
+              << "  family:  " << m.family << "\n"
+              << "  source:  " << m.source << "\n"
+              << "  kernel:  kernels/" << m.header << " (" << m.eval << ")\n"
+              << "  doc:     " << doc_page(m) << "\n"
+              << "  flags:   " << (m.reciprocal ? "reciprocal" : "not reciprocal") << ", "
+              << (m.energy_conserving ? "energy conserving" : "not energy conserving")
+              << (m.children > 0 ? ", blends " + std::to_string(m.children) + " child materials" : "") << "\n";
+    if (m.params.empty()) std::cout << "  parameters: none\n";
+    for (const auto& p : m.params)
+        std::cout << "  -p " << p.name << "=" << p.def << "  range [" << p.lo << ", " << p.hi << "]"
+                  << (p.integer ? ", whole numbers" : "") << "  " << p.doc << "\n";
+}
+
+// The catalogue as a table: name and summary, then one line per parameter. The name column fits the longest
+// name, so no two columns ever run together.
+void print_catalogue() {
+    std::size_t name_w = 0, param_w = 0;
+    for (const auto& m : model_catalogue()) {
+        name_w = std::max(name_w, m.name.size());
+        for (const auto& p : m.params) param_w = std::max(param_w, p.name.size());
+    }
+    for (const auto& m : model_catalogue()) {
+        std::cout << std::left << std::setw(int(name_w + 2)) << m.name << m.summary << "\n";
+        for (const auto& p : m.params)
+            std::cout << "    " << std::setw(int(param_w + 2)) << p.name << "default " << p.def << ", range ["
+                      << p.lo << ", " << p.hi << "]  " << p.doc << "\n";
+    }
+}
+
+}  // namespace
+
+void require_model_name(const std::string& name, const std::string& option) {
+    try {
+        find_model(name);
+    } catch (const Error& e) {
+        throw UsageError(std::string(e.what()) + " [" + option + "]");
+    }
+}
+
 void add_models_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("models", "List every lighting model with its parameters and ranges");
-    cmd->callback([] {
-        for (const auto& m : model_catalogue()) {
-            std::cout << std::left << std::setw(32) << m.name << m.summary << "\n";
-            for (const auto& p : m.params)
-                std::cout << "    " << std::setw(14) << p.name << "default " << p.def << ", range [" << p.lo << ", "
-                          << p.hi << "]  " << p.doc << "\n";
+    struct Args {
+        std::string name;
+        bool json = false;
+    };
+    auto a = std::make_shared<Args>();
+    auto* cmd = app.add_subcommand("models", "List every lighting model with its parameters and ranges "
+                                             "(or one model in full: 'shadelab models NAME')");
+    cmd->add_option("name", a->name, "Show this model only: parameters, ranges, flags, source, doc page");
+    cmd->add_flag("--json", a->json, "Print JSON: an array with one object per model (name, params, ...)");
+    cmd->callback([a] {
+        if (!a->name.empty()) require_model_name(a->name, "models");
+        if (a->json) {
+            nlohmann::json out = nlohmann::json::array();
+            for (const auto& m : model_catalogue())
+                if (a->name.empty() || m.name == a->name) out.push_back(model_json(m));
+            std::cout << (a->name.empty() ? out : out[0]).dump(2) << "\n";
+        } else if (!a->name.empty()) {
+            print_model(find_model(a->name));
+        } else {
+            print_catalogue();
         }
     });
 }

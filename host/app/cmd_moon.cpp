@@ -13,6 +13,7 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "models/catalogue.hpp"
 #include "moon/disc.hpp"
 #include "moon/fit.hpp"
@@ -157,9 +158,9 @@ LoadedImage load(const std::string& path, const GeometryArgs& g, std::size_t i, 
     li.geo = resolve_geometry(g, i, n, path, kw);
     check_disc(li.geo.disc, li.img.width, li.img.height, g.allow_partial);
     if (!li.geo.from_header.empty()) {
-        std::cerr << "image " << path << ": from its FITS header:";
-        for (const auto& k : li.geo.from_header) std::cerr << " " << k;
-        std::cerr << "\n";
+        shadelab::log_out() << "image " << path << ": from its FITS header:";
+        for (const auto& k : li.geo.from_header) shadelab::log_out() << " " << k;
+        shadelab::log_out() << "\n";
     }
     return li;
 }
@@ -263,19 +264,19 @@ void run_curve(const CurveArgs& a) {
     std::cout << a.output << "\n";
 
     // A few numbers to read without opening the table: the equator at s = -0.9 ... 0.9.
-    std::cerr << "phase " << a.phase << " deg; terminator on the equator at s = " << num(-std::cos(a.phase * kDeg), 4)
+    shadelab::log_out() << "phase " << a.phase << " deg; terminator on the equator at s = " << num(-std::cos(a.phase * kDeg), 4)
               << " (disc radii, + towards the sun); " << a.samples << " samples per profile\n";
-    std::cerr << std::left << std::setw(34) << "equator I/F at s =";
+    shadelab::log_out() << std::left << std::setw(34) << "equator I/F at s =";
     const double at[] = {-0.9, -0.5, 0.0, 0.5, 0.9};
-    for (double s : at) std::cerr << std::setw(11) << num(s, 2);
-    std::cerr << "\n";
+    for (double s : at) shadelab::log_out() << std::setw(11) << num(s, 2);
+    shadelab::log_out() << "\n";
     for (std::size_t m = 0; m < models.size(); ++m) {
-        std::cerr << "  " << std::setw(32) << labels[m];
+        shadelab::log_out() << "  " << std::setw(32) << labels[m];
         for (double s : at) {
             const glm::dvec3 N = s * sun.u + std::sqrt(1 - s * s) * sun.V;
-            std::cerr << std::setw(11) << num(models[m].value(N, sun), 5);
+            shadelab::log_out() << std::setw(11) << num(models[m].value(N, sun), 5);
         }
-        std::cerr << "\n";
+        shadelab::log_out() << "\n";
     }
     if (!a.no_plot) {
         const std::string png = png_for(a.output, a.plot);
@@ -363,7 +364,7 @@ void run_render(const RenderArgs& a) {
     }
     write_any_image(a.output, img, kw);
     if (!a.quiet) {
-        std::cerr << "disc: " << o.width << "x" << o.height << ", centre (" << o.disc.cx << ", " << o.disc.cy
+        shadelab::log_out() << "disc: " << o.width << "x" << o.height << ", centre (" << o.disc.cx << ", " << o.disc.cy
                   << ") px, radius " << o.disc.radius << " px; " << rep.method << "\n"
                   << "sun: phase " << a.phase << " deg, pa " << a.pa << " deg, L = (" << num(o.sun.L.x, 5) << ", "
                   << num(o.sun.L.y, 5) << ", " << num(o.sun.L.z, 5) << "); model " << a.model << "\n"
@@ -374,7 +375,7 @@ void run_render(const RenderArgs& a) {
                                num(rep.kernel_ms, 3) + " ms\n"
                          : std::string());
         if (rep.guard_pixels > 0)
-            std::cerr << "note: " << rep.guard_pixels << " pixels have mu < 1e-3, where the Minnaert kernels with k < 1 "
+            shadelab::log_out() << "note: " << rep.guard_pixels << " pixels have mu < 1e-3, where the Minnaert kernels with k < 1 "
                          "replace the diverging mu^(k-1) by their limb guard (docs/models/minnaert.md); "
                          "--limb-mask MU leaves pixels below MU as background\n";
     }
@@ -451,9 +452,9 @@ void run_profile(const ProfileArgs& a, bool compare) {
     add_profile_rows(t, "equator", eq, model.get(), sun, a.mu_min, a.mu0_min);
     add_profile_rows(t, "across", ac, model.get(), sun, a.mu_min, a.mu0_min);
     t.write(a.output);
-    std::cerr << "image " << a.image << " (" << li.img.width << "x" << li.img.height << "): " << geometry_text(li.geo)
+    shadelab::log_out() << "image " << a.image << " (" << li.img.width << "x" << li.img.height << "): " << geometry_text(li.geo)
               << "\n";
-    std::cerr << "equator profile " << eq.size() << " pixels, across profile " << ac.size()
+    shadelab::log_out() << "equator profile " << eq.size() << " pixels, across profile " << ac.size()
               << " pixels (nearest pixel to each 1-px step, exact geometry at its centre)\n";
     if (!a.pixels_csv.empty()) {
         const auto all = disc_pixels(li.img, li.geo.disc, sun, a.geo.allow_partial);
@@ -511,7 +512,7 @@ void print_fit(const MinnaertFit& f) {
         std::cout << "; the logarithms' bias at that noise (second order): k " << num(f.bias_k, 2) << ", B0 "
                   << num(std::expm1(f.bias_ln_B0) * 100.0, 2) << "%";
     std::cout << "\n";
-    for (const auto& w : f.warnings) std::cerr << "warning: " << w << "\n";
+    for (const auto& w : f.warnings) shadelab::log_out() << "warning: " << w << "\n";
 }
 
 void run_fit(const FitArgs& a) {

@@ -7,6 +7,7 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "models/catalogue.hpp"
@@ -51,11 +52,13 @@ void parse_size(const std::string& s, int& w, int& h) {
     h = b;
 }
 
-void run_render(const RenderArgs& a) {
+void run_render(RenderArgs a) {
+    if (log_level() == LogLevel::Quiet) a.quiet = true;   // the global -q means what render's own -q means
     using clock = std::chrono::steady_clock;
     auto ms = [](auto t0, auto t1) { return std::chrono::duration<double, std::milli>(t1 - t0).count(); };
     encoding_for(a.output);   // reject a bad extension before any work
 
+    require_model_name(a.model, "--model");
     Material mat;
     mat.model = a.model;
     for (const auto& p : a.params) {

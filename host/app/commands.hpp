@@ -18,6 +18,10 @@ void add_compare_command(CLI::App& app); // host/app/cmd_compare.cpp
 void add_plan_command(CLI::App& app);    // host/app/cmd_plan.cpp
 void add_chart_command(CLI::App& app);   // host/app/cmd_chart.cpp
 
+// A model name typed on the command line: throws shadelab::UsageError (exit 2) naming `option`, with the closest
+// catalogue name as a hint, when it is unknown.
+void require_model_name(const std::string& name, const std::string& option);
+
 // Small parsers shared by the commands; each throws shadelab::Error naming the option and the text.
 glm::dvec3 parse_vec3(const std::string& text, const std::string& option);
 glm::dvec4 parse_vec4(const std::string& text, const std::string& option, double default_w);

@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "core/assets.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -63,12 +64,6 @@ std::string lower(std::string s) {
 std::string env_or(const char* name, const std::string& fallback) {
     const char* v = std::getenv(name);
     return (v && *v) ? std::string(v) : fallback;
-}
-
-fs::path executable_dir() {
-    std::error_code ec;
-    fs::path p = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? fs::path() : p.parent_path();
 }
 
 bool has_kernels(const fs::path& dir) {

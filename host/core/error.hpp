@@ -11,4 +11,11 @@ public:
     explicit Error(const std::string& what_went_wrong) : std::runtime_error(what_went_wrong) {}
 };
 
+// A mistake in how a command was called (an unknown model name on the command line, options that do not go
+// together): exit code 2 instead of 1, like the command-line parser's own usage errors.
+class UsageError : public Error {
+public:
+    explicit UsageError(const std::string& what_went_wrong) : Error(what_went_wrong) {}
+};
+
 }  // namespace shadelab

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 
 namespace shadelab {
 
@@ -30,9 +31,14 @@ const std::vector<ModelInfo>& model_catalogue() {
 const ModelInfo& find_model(const std::string& name) {
     for (const auto& m : model_catalogue())
         if (m.name == name) return m;
-    std::string names;
-    for (const auto& m : model_catalogue()) names += (names.empty() ? "" : ", ") + m.name;
-    throw Error("unknown model '" + name + "': choose one of " + names);
+    std::vector<std::string> names;
+    std::string list;
+    for (const auto& m : model_catalogue()) {
+        names.push_back(m.name);
+        list += (list.empty() ? "" : ", ") + m.name;
+    }
+    throw Error("unknown model '" + name + "'" + did_you_mean(name, names) + ": choose one of " + list +
+                " ('shadelab models' lists them with their parameters)");
 }
 
 namespace {

@@ -17,7 +17,9 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "image/image.hpp"
+#include "core/assets.hpp"
 #include "mesh/mesh.hpp"
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
@@ -82,7 +84,7 @@ std::string find_label_font() {
 }
 
 ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
-    std::ostream& log = o.log ? *o.log : std::cerr;
+    std::ostream& log = o.log ? *o.log : shadelab::log_out();
     const auto t0 = std::chrono::steady_clock::now();
     if (o.cell < 16 || o.cell > 2048) throw Error("contact sheet: --cell " + std::to_string(o.cell) + " must be in [16, 2048]");
     encoding_for(o.output);   // a bad extension fails before any work
@@ -98,7 +100,8 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
     const View sphere = frame(make_icosphere(4), o.cell);
     // Real meshes mostly face +z or -z (spot faces -z): turned 215 degrees about y, a three-quarter view of
     // spot's face from the sheet's camera, lit by the same key light as the sphere.
-    Mesh real = load_mesh(o.mesh);
+    const std::string mesh_file = o.mesh.empty() ? bundled_mesh("spot.obj") : o.mesh;
+    Mesh real = load_mesh(mesh_file);
     real.transform(glm::rotate(glm::dmat4(1.0), glm::radians(o.mesh_turn_deg), glm::dvec3(0.0, 1.0, 0.0)));
     const View mesh = frame(real, o.cell);
 
@@ -172,7 +175,7 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
         res.legend = fs::path(o.output).replace_extension(".txt").string();
         std::ostringstream legend;
         legend << "contact sheet " << o.output << ": " << cols << " tiles per row, each sphere | "
-               << fs::path(o.mesh).filename().string() << "; no TrueType font was found for labels\n";
+               << fs::path(mesh_file).filename().string() << "; no TrueType font was found for labels\n";
         for (int i = 0; i < n; ++i)
             legend << "row " << i / cols + 1 << ", column " << i % cols + 1 << ": " << labels[std::size_t(i)] << "\n";
         write_text_atomically(res.legend, "legend", legend.str());

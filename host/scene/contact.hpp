@@ -11,8 +11,8 @@
 namespace shadelab {
 
 struct ContactOptions {
-    std::string output = "docs/images/contact_sheet.png";
-    std::string mesh = "meshes/spot.obj";   // the real mesh shown next to the sphere ...
+    std::string output = "contact_sheet.png";
+    std::string mesh;                        // the real mesh shown next to the sphere (empty: bundled spot.obj) ...
     double mesh_turn_deg = 215.0;            // ... turned this much about +y (spot faces -z: a 3/4 front view)
     int cell = 128;                          // side of each rendered square, pixels
     int columns = 0;                         // model tiles per row; 0: chosen for a roughly 4:3 sheet
