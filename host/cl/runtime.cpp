@@ -88,9 +88,10 @@ std::string Runtime::find_kernel_dir(const std::string& requested) {
         throw Error(std::string("SHADELAB_KERNELS='") + env +
                     "' has no shade.cl: unset it or point it at shadelab's kernels/ folder");
     }
-    const fs::path exe = executable_dir();
-    for (const fs::path& p : {exe / ".." / "share" / "shadelab" / "kernels", fs::path(SHADELAB_KERNEL_INSTALL_DIR),
-                              fs::path(SHADELAB_KERNEL_SOURCE_DIR)}) {
+    std::vector<fs::path> places = installed_share_dirs("kernels");
+    places.push_back(SHADELAB_KERNEL_INSTALL_DIR);
+    places.push_back(SHADELAB_KERNEL_SOURCE_DIR);
+    for (const fs::path& p : places) {
         if (attempt(p)) return fs::weakly_canonical(p).string();
     }
     std::string list;
