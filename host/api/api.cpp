@@ -58,9 +58,9 @@ shadelab::Light to_internal(const Light& l) {
 }
 
 shadelab::Image to_internal(const Image& img) {
-    if (img.width < 1 || img.height < 1 || (img.channels != 3 && img.channels != 4) ||
+    if (img.width < 1 || img.height < 1 || img.channels < 1 || img.channels > 4 ||
         img.pixels.size() != std::size_t(img.width) * img.height * img.channels)
-        throw shadelab::Error("image: expected width x height x (3 or 4) floats, got " + std::to_string(img.width) +
+        throw shadelab::Error("image: expected width x height x (1 to 4) floats, got " + std::to_string(img.width) +
                               "x" + std::to_string(img.height) + "x" + std::to_string(img.channels) + " with " +
                               std::to_string(img.pixels.size()) + " values");
     shadelab::Image out(img.width, img.height, img.channels);
@@ -167,6 +167,7 @@ Comparison compare(const Image& a, const Image& b) {
                                           std::to_string(px / std::size_t(img->width)) +
                                           ") is NaN or Inf: compare finite images");
                 }
+        if (a.channels < 3 || b.channels < 3) throw shadelab::Error("compare: images need 3 (RGB) or 4 (RGBA) channels");
         const shadelab::Image ia = to_internal(a), ib = to_internal(b);
         if (ia.width != ib.width || ia.height != ib.height)
             throw shadelab::Error("compare: the images differ in size (" + std::to_string(ia.width) + "x" +

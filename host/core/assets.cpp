@@ -30,7 +30,8 @@ std::vector<fs::path> installed_share_dirs(const std::string& sub) {
     std::vector<fs::path> out;
     for (const fs::path& dir : {module_dir(), executable_dir()}) {
         if (dir.empty()) continue;
-        for (const fs::path& up : {dir / "..", dir / ".." / ".."}) {
+        // bin/ or lib/ (1 up), lib/<multiarch>/ (2), lib/python3/dist-packages/ (3)
+        for (const fs::path& up : {dir / "..", dir / ".." / "..", dir / ".." / ".." / ".."}) {
             const fs::path p = up / "share" / "shadelab" / sub;
             if (std::find(out.begin(), out.end(), p) == out.end()) out.push_back(p);
         }

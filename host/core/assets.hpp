@@ -15,8 +15,9 @@ std::filesystem::path executable_dir();
 // shadelab is used as a library ("" when the system does not say).
 std::filesystem::path module_dir();
 
-// PREFIX/share/shadelab/<sub> for every PREFIX an installed shadelab may sit under: one or two folders above
-// module_dir() (bin/, lib/, lib/<multiarch>/) and above executable_dir(), nearest first.
+// PREFIX/share/shadelab/<sub> for every PREFIX an installed shadelab may sit under: one to three folders above
+// module_dir() (bin/, lib/, lib/<multiarch>/, lib/python3/dist-packages/) and above executable_dir(), nearest
+// first.
 std::vector<std::filesystem::path> installed_share_dirs(const std::string& sub);
 
 // The bundled mesh `name` (e.g. "spot.obj"): the first existing of <exe>/../share/shadelab/meshes,

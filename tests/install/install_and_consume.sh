@@ -2,7 +2,7 @@
 # Installs shadelab into a temporary prefix and uses it from outside the source tree: every public header
 # compiles on its own, find_package(shadelab) gives shadelab::shadelab, pkg-config finds shadelab.pc, and a
 # consumer program built both ways runs from another folder (kernels and meshes found from the prefix).
-# Usage: install_and_consume.sh BUILD_DIR
+# The installed Python module too, when PYTHON is given. Usage: install_and_consume.sh BUILD_DIR [PYTHON]
 set -euo pipefail
 build="$(cd "$1" && pwd)"
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -38,4 +38,14 @@ g++ "$here/consumer/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$tmp/consumer-pc"
 (cd "$tmp" && "$prefix/bin/shadelab" --version)
 (cd "$tmp" && env -u SHADELAB_KERNELS "$prefix/bin/shadelab" devices) | grep -q "^kernels: *$real_prefix/share/shadelab/kernels" \
     || { echo "FAIL: the installed shadelab did not read its kernels from the prefix"; exit 1; }
+if [ $# -ge 2 ]; then
+    site="$(ls -d "$prefix"/lib*/python3/dist-packages | head -1)"
+    (cd "$tmp" && env -u SHADELAB_KERNELS PYTHONPATH="$site" "$2" -c '
+import numpy as np, shadelab
+N = np.array([[0, 0, 1]], np.float32)
+v = shadelab.shade("lambert", N, N, N)
+assert abs(v[0, 0] - 1) < 1e-6, v
+print("python module from the prefix:", shadelab.__file__)
+') || { echo "FAIL: the installed Python module"; exit 1; }
+fi
 echo "install: 1 passed, 0 failed"
