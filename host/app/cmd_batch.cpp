@@ -1,6 +1,7 @@
 // shadelab batch: many scenes (or one template over a folder of meshes) in one process;
 // shadelab contact: every model on a sphere and a mesh, labelled, in one image.
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 
@@ -9,6 +10,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "scene/batch.hpp"
+#include "scene/report_merge.hpp"
 #include "scene/contact.hpp"
 #include "scene/scene.hpp"
 
@@ -18,6 +20,7 @@ namespace {
 
 struct BatchArgs {
     std::vector<std::string> scenes;
+    std::string manifest;
     std::string meshes, scene_template;
     std::string out = "out";
     std::string report;
@@ -42,9 +45,31 @@ void print_contact(const ContactResult& r) {
     std::cout << r.output << "\n";
 }
 
+// One scene file per line of the manifest, relative to its folder; '#' starts a comment line.
+std::vector<std::string> read_manifest(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw Error("manifest '" + path + "': cannot open it: check the path");
+    std::vector<std::string> out;
+    std::string line;
+    int number = 0;
+    const std::filesystem::path base = std::filesystem::path(path).parent_path();
+    while (std::getline(in, line)) {
+        ++number;
+        const auto b = line.find_first_not_of(" \t\r"), e = line.find_last_not_of(" \t\r");
+        if (b == std::string::npos || line[b] == '#') continue;
+        const std::string entry = line.substr(b, e - b + 1);
+        const std::filesystem::path p(entry);
+        out.push_back(p.is_absolute() ? entry : (base / p).string());
+    }
+    if (out.empty()) throw Error("manifest '" + path + "' lists no scene file (one per line)");
+    return out;
+}
+
 void run_batch_command(const BatchArgs& a) {
     BatchOptions o;
     o.scenes = a.scenes;
+    if (!a.manifest.empty())
+        for (auto& s : read_manifest(a.manifest)) o.scenes.push_back(std::move(s));
     o.mesh_dir = a.meshes;
     o.template_scene = a.scene_template;
     o.out_dir = a.out;
@@ -56,6 +81,7 @@ void run_batch_command(const BatchArgs& a) {
     o.overlap = !a.no_overlap;
     o.progress = parse_progress_style(a.progress);
     if (log_level() == LogLevel::Quiet) o.progress = parse_progress_style("quiet");   // the global -q
+    o.log = &log_out();
     if (a.tolerance < 0.0) throw Error("--tolerance must be > 0 (0 = off)");
     o.tolerance = a.tolerance;
     if (a.metric != "de2000" && a.metric != "relative") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
@@ -85,6 +111,9 @@ void add_batch_command(CLI::App& app) {
         "batch",
         "Shade many scene files (or one template scene over a folder of meshes) in one process; schema in docs/batch.md");
     cmd->add_option("scenes", a->scenes, "Scene files (.json) or folders of them");
+    cmd->add_option("--manifest", a->manifest,
+                    "A text file with one scene file per line (relative to the manifest's folder; blank lines and "
+                    "lines starting with # are skipped), added to the scenes given");
     cmd->add_option("--meshes", a->meshes, "Template mode: shade every .obj .off .ply .stl in this folder ...");
     cmd->add_option("--scene", a->scene_template, "... with this template scene (its one mesh entry is replaced)");
     cmd->add_option("-o,--out", a->out, "Folder that relative output paths of the scenes are written under")
@@ -106,6 +135,34 @@ void add_batch_command(CLI::App& app) {
     cmd->add_flag("--contact", a->contact, "Also write OUT/contact_sheet.png (see 'shadelab contact')");
     cmd->add_flag("--list", a->list, "Print this shard's jobs (index, scene, mesh) and exit without rendering");
     cmd->callback([a] { run_batch_command(*a); });
+
+    struct MergeArgs {
+        std::vector<std::string> reports;
+        std::string out;
+        bool allow_missing = false;
+    };
+    auto ma = std::make_shared<MergeArgs>();
+    auto* rep = app.add_subcommand("report", "Work with batch reports");
+    rep->require_subcommand(1);
+    auto* merge = rep->add_subcommand("merge", "Merge the reports of a sharded batch (--shard i/N) into the report an "
+                                               "unsharded run writes (JSON, and the CSV beside it)");
+    merge->add_option("reports", ma->reports, "The shards' JSON reports")->required();
+    merge->add_option("-o,--output", ma->out, "The merged report (.json; a .csv is written beside it)")->required();
+    merge->add_flag("--allow-missing", ma->allow_missing, "Merge even when some shards' reports are not given");
+    merge->callback([ma] {
+        std::vector<BatchSummary> shards;
+        for (const auto& r : ma->reports) shards.push_back(read_report_json(r));
+        BatchSummary merged = merge_reports(shards, ma->reports, ma->allow_missing);
+        merged.report_json = ma->out;
+        merged.report_csv = std::filesystem::path(ma->out).replace_extension(".csv").string();
+        write_report_json(merged, merged.report_json);
+        write_report_csv(merged, merged.report_csv);
+        log_out() << "report merge: " << shards.size() << " shards, " << merged.jobs.size() << " of "
+                  << merged.planned_total << " jobs (" << merged.ok << " ok, " << merged.skipped << " up to date, "
+                  << merged.failed << " failed)\n";
+        std::cout << merged.report_json << "\n" << merged.report_csv << "\n";
+        if (merged.failed) throw Error("report merge: " + std::to_string(merged.failed) + " jobs failed (see the report)");
+    });
 
     auto c = std::make_shared<ContactArgs>();
     auto* con = app.add_subcommand("contact",
