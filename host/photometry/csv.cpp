@@ -1,0 +1,95 @@
+#include "photometry/csv.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "core/atomic_file.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace shadelab::photometry {
+
+namespace {
+
+std::string trim(std::string s) {
+    s.erase(0, s.find_first_not_of(" \t\r"));
+    s.erase(s.find_last_not_of(" \t\r") + 1);
+    return s;
+}
+
+}  // namespace
+
+GeometryTable read_geometry_csv(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw Error(path + ": cannot open the geometry table");
+    GeometryTable t;
+    std::string line;
+    int lineno = 0;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (!trim(line).empty()) break;
+    }
+    if (trim(line).empty()) throw Error(path + ": empty file: expected a header row with phase, incidence, emission");
+    for (auto& h : split(line, ',')) t.header.push_back(trim(h));
+    std::size_t col[3];
+    const char* names[3] = {"phase", "incidence", "emission"};
+    t.value_column = t.header.size();
+    for (int c = 0; c < 3; ++c) {
+        col[c] = t.header.size();
+        for (std::size_t j = 0; j < t.header.size(); ++j)
+            if (pvl::iequals(t.header[j], names[c])) col[c] = j;
+        if (col[c] == t.header.size())
+            throw Error(path + ":" + std::to_string(lineno) + ": the header has no column '" + names[c] +
+                        "' (needed: phase, incidence, emission, in degrees)");
+    }
+    for (std::size_t j = 0; j < t.header.size(); ++j)
+        if (pvl::iequals(t.header[j], "value")) t.value_column = j;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (trim(line).empty()) continue;
+        std::vector<std::string> f = split(line, ',');
+        for (auto& x : f) x = trim(x);
+        const std::string where = path + ":" + std::to_string(lineno);
+        Geometry g;
+        double* dst[3] = {&g.phase, &g.incidence, &g.emission};
+        for (int c = 0; c < 3; ++c) {
+            if (col[c] >= f.size())
+                throw Error(where + ": the row has " + std::to_string(f.size()) + " fields, no '" + names[c] + "'");
+            const std::string& s = f[col[c]];
+            char* end = nullptr;
+            const double v = std::strtod(s.c_str(), &end);
+            if (s.empty() || *end != '\0' || !std::isfinite(v))
+                throw Error(where + ": " + names[c] + " '" + s + "' is not a finite number of degrees");
+            *dst[c] = v;
+        }
+        check_geometry(g, where);
+        t.geometry.push_back(g);
+        t.rows.push_back(std::move(f));
+    }
+    return t;
+}
+
+void write_values_csv(const std::string& path, const GeometryTable& t, const std::vector<double>& values) {
+    std::string out;
+    out.reserve(t.rows.size() * 48 + 64);
+    auto emit = [&](const std::vector<std::string>& fields, const std::string& value) {
+        const std::size_t n = std::max(fields.size(), t.value_column + 1);
+        for (std::size_t j = 0; j < n; ++j) {
+            if (j) out += ',';
+            if (j == t.value_column) out += value;
+            else if (j < fields.size()) out += fields[j];
+        }
+        out += '\n';
+    };
+    emit(t.header, "value");
+    char buf[32];
+    for (std::size_t r = 0; r < t.rows.size(); ++r) {
+        std::snprintf(buf, sizeof buf, "%.9g", values[r]);
+        emit(t.rows[r], buf);
+    }
+    write_text_atomically(path, "table", out);
+}
+
+}  // namespace shadelab::photometry
