@@ -6,7 +6,8 @@
 // Models without a `_pho` form are evaluated at vectors built from the angles (N = z, L in the xz plane, V at
 // azimuth psi), so for them only a consistent geometry is meaningful (psi is clamped as ISIS clamps it).
 //
-// The host computes each row's cosines and sines in double (cos 90 deg = 0 exactly) and passes seven arrays.
+// The host computes each row's cosines, sines and half-angle tangents in double (cos 90 deg = 0 exactly) and
+// passes seven arrays.
 #include "common.cl"
 #include SL_MODEL_HEADER
 #include "models/planetary.cl"
@@ -25,7 +26,7 @@ SL_INLINE float pho_finite_or_zero(float v) {
 __kernel void eval_photometric(__global const float* restrict mu0, __global const float* restrict mu,
                                __global const float* restrict sin_i, __global const float* restrict sin_e,
                                __global const float* restrict cos_g, __global const float* restrict tan_half_g,
-                               __global const float* restrict cos_psi, __global float* restrict out, const uint n,
+                               __global const float* restrict tan_half_psi, __global float* restrict out, const uint n,
                                __constant const ModelConsts* mc) {
     const size_t i = get_global_id(0);
     if (i >= n) return;
@@ -36,13 +37,14 @@ __kernel void eval_photometric(__global const float* restrict mu0, __global cons
     g.sin_e = sin_e[i];
     g.cos_g = cos_g[i];
     g.tan_half_g = tan_half_g[i];
-    g.cos_psi = cos_psi[i];
+    g.tan_half_psi = tan_half_psi[i];
 #ifdef SL_PHO_EVAL
     const float v = mc->albedo[0] * SL_PHO_EVAL(g, mc);
 #else
-    const float sin_psi = sqrt(fmax(0.0f, 1.0f - g.cos_psi * g.cos_psi));
+    const float t2 = g.tan_half_psi * g.tan_half_psi;
+    const float cos_psi = (1.0f - t2) / (1.0f + t2), sin_psi = 2.0f * g.tan_half_psi / (1.0f + t2);
     const sl_v3 N = sl_v3_make(0.0f, 0.0f, 1.0f), L = sl_v3_make(g.sin_i, 0.0f, g.mu0);
-    const sl_v3 V = sl_v3_make(g.sin_e * g.cos_psi, g.sin_e * sin_psi, g.mu);
+    const sl_v3 V = sl_v3_make(g.sin_e * cos_psi, g.sin_e * sin_psi, g.mu);
     const float v = SL_EVAL(N, L, V, N, mc).r;
 #endif
     out[i] = pho_finite_or_zero(v);

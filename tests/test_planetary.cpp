@@ -272,7 +272,8 @@ TEST_CASE("edge: Hapke at grazing incidence and emission stays finite and goes t
     }
 }
 
-TEST_CASE("edge: theta-bar near 0 joins the smooth law; theta-bar large (60, 89, 90) stays finite", "[planetary][edge]") {
+TEST_CASE("edge: theta-bar near 0 joins the smooth law away from grazing; theta-bar large (60, 89, 90) stays finite",
+          "[planetary][edge]") {
     std::mt19937_64 gen(11);
     const std::map<std::string, double> base = {{"wh", 0.5}, {"b0", 1.0}, {"hh", 0.1}, {"hg1", 0.3}, {"hg2", 0.4}};
     auto with_theta = [&](double t) {
@@ -280,44 +281,64 @@ TEST_CASE("edge: theta-bar near 0 joins the smooth law; theta-bar large (60, 89,
         p["theta"] = t;
         return photometry::law_from_model("hapke_hen", p);
     };
+    // Within about theta-bar of grazing the rough law is not the smooth one, however small theta-bar is: there
+    // cot i ~ tan(theta-bar), and the shadowing terms E1, E2 are of order 1 (Hapke 1984). The limit holds where
+    // 90 - max(i, e) is large against theta-bar: 1 degree here, against 1e-4 and 0.01 degrees.
     const auto smooth = with_theta(0.0), tiny = with_theta(1e-4), small = with_theta(0.01);
     double dev_tiny = 0.0, dev_small = 0.0;
-    for (int j = 0; j < 5000; ++j) {
+    std::size_t n = 0;
+    for (int j = 0; j < 20000; ++j) {
         const Geometry g = random_geometry(gen);
+        if (std::max(g.incidence, g.emission) > 89.0) continue;
         const double s = photometry::evaluate_reference(smooth, g);
         if (!(s > 1e-3)) continue;
+        ++n;
         dev_tiny = std::max(dev_tiny, std::abs(photometry::evaluate_reference(tiny, g) - s) / s);
         dev_small = std::max(dev_small, std::abs(photometry::evaluate_reference(small, g) - s) / s);
-        CHECK(value_at(tiny, g) == Approx(s).epsilon(1e-3));
+        if (j % 10 == 0) {
+            INFO("g, i, e = " << g.phase << ", " << g.incidence << ", " << g.emission);
+            CHECK(value_at(tiny, g) == Approx(s).epsilon(2e-5));
+        }
     }
-    std::cout << "theta-bar -> 0: max rel difference from the smooth law, theta 1e-4 deg " << dev_tiny << ", 0.01 deg "
-              << dev_small << "\n";
-    CHECK(dev_tiny < 1e-3);
-    CHECK(dev_small < dev_tiny * 1e3 + 1e-2);
+    std::cout << "theta-bar -> 0, " << n << " geometries with i, e <= 89 deg: max rel difference from the smooth law, "
+              << "theta-bar 1e-4 deg " << dev_tiny << ", 0.01 deg " << dev_small << "\n";
+    CHECK(n > 5000);
+    CHECK(dev_tiny < 1e-5);
+    CHECK(dev_small < 1e-3);
     for (double t : {60.0, 89.0, 90.0}) {
         const auto law = with_theta(t);
-        for (int j = 0; j < 2000; ++j) {
+        double worst = 0.0, wk = 0.0, wr = 0.0;
+        Geometry wg;
+        for (int j = 0; j < 20000; ++j) {
             const Geometry g = random_geometry(gen);
             const double k = value_at(law, g), r = photometry::evaluate_reference(law, g);
-            INFO("theta " << t << " at g, i, e = " << g.phase << ", " << g.incidence << ", " << g.emission);
+            INFO("theta " << t << " at g, i, e = " << g.phase << ", " << g.incidence << ", " << g.emission << ": kernel "
+                          << k << ", reference " << r);
             REQUIRE(std::isfinite(k));
-            CHECK(k == Approx(r).epsilon(bound_for("hapke")).margin(1e-6));
+            CHECK(k >= 0.0);
+            if (std::abs(k - r) > worst) { worst = std::abs(k - r); wg = g; wk = k; wr = r; }
         }
+        std::cout << "theta-bar " << t << " deg: max abs kernel - reference " << worst << " at g, i, e = " << wg.phase
+                  << ", " << wg.incidence << ", " << wg.emission << " (kernel " << wk << ", reference " << wr << ")\n";
+        CHECK(worst < 1e-5);
     }
 }
 
-TEST_CASE("edge: w -> 1, the H function at gamma -> 0, is continuous and finite", "[planetary][edge]") {
+TEST_CASE("edge: w -> 1, the H function at gamma -> 0, is finite and continuous (like sqrt(1 - w))", "[planetary][edge]") {
     for (const double theta : {0.0, 30.0}) {
         auto law = [&](double w) {
             return photometry::law_from_model("hapke_hen", {{"wh", w}, {"theta", theta}, {"hg1", 0.2}});
         };
-        const auto one = law(1.0), near = law(1.0 - 1e-7);
+        const auto one = law(1.0), near = law(1.0 - 1e-10);
         for (const Geometry g : {Geometry{0, 0, 0}, Geometry{60, 45, 30}, Geometry{30, 89.99, 60}}) {
             const double k1 = value_at(one, g), k2 = value_at(near, g), r1 = photometry::evaluate_reference(one, g);
+            const double r2 = photometry::evaluate_reference(near, g);
             INFO("theta " << theta << ", g, i, e = " << g.phase << ", " << g.incidence << ", " << g.emission);
             CHECK(std::isfinite(k1));
-            CHECK(k1 == Approx(r1).epsilon(1e-5).margin(1e-9));
-            CHECK(k2 == Approx(k1).epsilon(1e-3));
+            CHECK(k1 == Approx(r1).epsilon(2e-5).margin(1e-9));
+            CHECK(k2 == Approx(r2).epsilon(2e-5).margin(1e-9));
+            // gamma = sqrt(1 - w) = 1e-5: H moves by about 2x gamma / (1 + 2x), the value by < 1e-4 of itself
+            CHECK(std::abs(r2 - r1) <= 1e-4 * r1);
             // H(x) at w = 1 is 1 + 2x: smooth at i = e = g = 0, B = 0, the value is (1/8)(P(0) - 1 + 9), P(0) = 0.96/1.44^1.5
             if (theta == 0.0 && g.phase == 0.0) CHECK(r1 == Approx(0.125 * (0.96 / std::pow(1.44, 1.5) - 1.0 + 9.0)).epsilon(1e-12));
         }

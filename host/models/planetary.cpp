@@ -118,7 +118,7 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
                            "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeHen",
                            "hapke_hen_eval");
         m.params = hapke_common();
-        m.params.push_back({"hg1", 0.0, -0.999, 0.999,
+        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999,
                             "Henyey-Greenstein asymmetry b (ISIS Hg1, -1 < b < 1): lobe 1 (1 + b^2 + 2b cos g)"});
         m.params.push_back({"hg2", 0.0, 0.0, 1.0,
                             "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});

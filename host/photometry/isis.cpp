@@ -128,6 +128,20 @@ double sind(double d) {
     return (r == 0.0 || std::abs(r) == 180.0) ? 0.0 : std::sin(r * kDeg);
 }
 
+// tan(psi/2) of the azimuth psi between the planes of incidence and emission, from the half-angle forms
+//   sin^2(psi/2) = sin((g + i - e)/2) sin((g - i + e)/2) / (sin i sin e),
+//   cos^2(psi/2) = sin((i + e + g)/2) sin((i + e - g)/2) / (sin i sin e),
+// which keep their digits at psi = 0 and 180 (1 - cos psi does not). A phase no facet can have is clamped as ISIS
+// clamps cos psi: g < |i - e| gives psi = 0, g > i + e gives psi = 180 (tan 1e18). psi = 0 when a sine is 0.
+double tan_half_azimuth(const Geometry& g, double si, double se) {
+    if (si * se == 0.0) return 0.0;
+    const double num = sind(0.5 * (g.phase + g.incidence - g.emission)) * sind(0.5 * (g.phase - g.incidence + g.emission));
+    const double den = sind(0.5 * (g.incidence + g.emission + g.phase)) * sind(0.5 * (g.incidence + g.emission - g.phase));
+    if (!(num > 0.0)) return 0.0;
+    if (!(den > 0.0)) return 1e18;
+    return std::min(std::sqrt(num / den), 1e18);
+}
+
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
 cl::Buffer to_device(Runtime& rt, const std::vector<float>& v) {
@@ -355,14 +369,12 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                     b[j] = float(law.brightness_of_phase(g.phase));
                     continue;
                 }
-                const double si = sind(g.incidence), se = sind(g.emission), sinei = si * se;
+                const double si = sind(g.incidence), se = sind(g.emission);
                 a[j] = float(si);
                 b[j] = float(se);
                 c[j] = float(cosd(g.phase));
                 d[j] = float(g.phase >= 180.0 ? 1e18 : std::tan(0.5 * g.phase * kDeg));
-                e[j] = float(sinei == 0.0 ? 1.0
-                                          : std::clamp((cosd(g.phase) - cosd(g.incidence) * cosd(g.emission)) / sinei,
-                                                       -1.0, 1.0));
+                e[j] = float(tan_half_azimuth(g, si, se));
             }
             cl::Buffer bout(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
             cl::Kernel k;
@@ -410,8 +422,8 @@ double evaluate_reference(const Law& law, const Geometry& g) {
     }
     if (ref::is_planetary_model(law.material.model)) return ref::planetary_value(law.material, a);
     // A model defined on vectors: N = z, L in the xz plane, V at the azimuth psi.
-    const double sp = std::sqrt(std::max(0.0, 1.0 - a.cos_psi * a.cos_psi));
-    const glm::dvec3 N{0, 0, 1}, L{a.sin_i, 0.0, a.mu0}, V{a.sin_e * a.cos_psi, a.sin_e * sp, a.mu};
+    const glm::dvec3 N{0, 0, 1}, L{a.sin_i, 0.0, a.mu0};
+    const glm::dvec3 V{a.sin_e * std::cos(a.psi), a.sin_e * std::sin(a.psi), a.mu};
     return ref::eval_material(N, L, V, N, law.material).x;
 }
 

@@ -16,7 +16,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
-double safe_acos(double x) { return std::acos(std::clamp(x, -1.0, 1.0)); }
 
 // ---- laws ---------------------------------------------------------------------------------------------
 double Pho_LommelSeeliger(double mu0, double mu) { return 2.0 * mu0 / (mu0 + mu); }
@@ -50,35 +49,44 @@ double Hapke_smooth(double mu0, double mu, double w, double B, double P) {
     return w / 4.0 * mu0 / (mu0 + mu) * ((1.0 + B) * P - 1.0 + Hapke_H(mu0, w) * Hapke_H(mu, w));
 }
 
-// Hapke (1984) roughness: the smooth law at the effective cosines times S(i, e, psi), eqs. 46-51 as printed
-// (angles as angles: psi = acos(cos psi), f = exp(-2 tan(psi/2))).
+// Hapke (1984) roughness: the smooth law at the effective cosines times S(i, e, psi), eqs. 46-51 (angles as
+// angles: psi = acos(cos psi), f = exp(-2 tan(psi/2))). Two points of the definition shared with the kernel
+// (docs/photometry.md): the denominators 2 - E1(x) - (psi/pi) E1(y) are summed as (1 - E1(x)) + (1 - psi/pi) +
+// (psi/pi)(1 - E1(y)) with 1 - E1 = -expm1(.), because as printed they cancel to rounding noise (and turn
+// negative) at theta-bar -> 90 deg, psi -> 180 deg even in double; and the effective cosines are floored at 0,
+// the law 0 where both are 0.
 double Hapke_rough(const PhotometricAngles& a, double w, double B, double P, double theta_deg) {
     const double t = theta_deg * kDeg;
     const double tan_t = std::tan(t), cot_t = 1.0 / tan_t;
     const double chi = 1.0 / std::sqrt(1.0 + kPi * tan_t * tan_t);
     const double cot_i = a.mu0 / std::max(a.sin_i, 1e-10), cot_e = a.mu / std::max(a.sin_e, 1e-10);
     auto E1 = [&](double cot_x) { return std::exp(-2.0 / kPi * cot_t * cot_x); };
+    auto one_minus_E1 = [&](double cot_x) { return -std::expm1(-2.0 / kPi * cot_t * cot_x); };
     auto E2 = [&](double cot_x) { return std::exp(-1.0 / kPi * cot_t * cot_t * cot_x * cot_x); };
     auto eta = [&](double cos_x, double sin_x, double cot_x) {
         return chi * (cos_x + sin_x * tan_t * E2(cot_x) / (2.0 - E1(cot_x)));
     };
-    const double psi = safe_acos(a.cos_psi);
-    const double f = psi >= kPi ? 0.0 : std::exp(-2.0 * std::tan(psi / 2.0));
+    const double psi = a.psi, cos_psi = std::cos(psi);
+    const double one_minus_f = psi >= kPi ? 1.0 : -std::expm1(-2.0 * std::tan(psi / 2.0));   // 1 - f(psi)
     const double s2 = std::pow(std::sin(psi / 2.0), 2.0);
     const double eta_i = eta(a.mu0, a.sin_i, cot_i), eta_e = eta(a.mu, a.sin_e, cot_e);
     double mu0e, mue, q;
-    if (a.mu0 >= a.mu) {   // i <= e
-        const double den = 2.0 - E1(cot_e) - psi / kPi * E1(cot_i);
-        mu0e = chi * (a.mu0 + a.sin_i * tan_t * (a.cos_psi * E2(cot_e) + s2 * E2(cot_i)) / den);
+    // i <= e; where the cosines are equal (rounded), the sines decide (near i = e = 0)
+    if (a.mu0 > a.mu || (a.mu0 == a.mu && a.sin_i <= a.sin_e)) {
+        const double den = one_minus_E1(cot_e) + (kPi - psi) / kPi + psi / kPi * one_minus_E1(cot_i);
+        mu0e = chi * (a.mu0 + a.sin_i * tan_t * (cos_psi * E2(cot_e) + s2 * E2(cot_i)) / den);
         mue = chi * (a.mu + a.sin_e * tan_t * (E2(cot_e) - s2 * E2(cot_i)) / den);
         q = chi * a.mu0 / eta_i;
     } else {
-        const double den = 2.0 - E1(cot_i) - psi / kPi * E1(cot_e);
+        const double den = one_minus_E1(cot_i) + (kPi - psi) / kPi + psi / kPi * one_minus_E1(cot_e);
         mu0e = chi * (a.mu0 + a.sin_i * tan_t * (E2(cot_i) - s2 * E2(cot_e)) / den);
-        mue = chi * (a.mu + a.sin_e * tan_t * (a.cos_psi * E2(cot_i) + s2 * E2(cot_e)) / den);
+        mue = chi * (a.mu + a.sin_e * tan_t * (cos_psi * E2(cot_i) + s2 * E2(cot_e)) / den);
         q = chi * a.mu / eta_e;
     }
-    const double S = mue / eta_e * a.mu0 / eta_i * chi / (1.0 - f + f * q);
+    mu0e = std::max(mu0e, 0.0);
+    mue = std::max(mue, 0.0);
+    if (!(mu0e + mue > 0.0)) return 0.0;
+    const double S = mue / eta_e * a.mu0 / eta_i * chi / (one_minus_f + (1.0 - one_minus_f) * q);
     return Hapke_smooth(mu0e, mue, w, B, P) * S;
 }
 
@@ -114,8 +122,10 @@ PhotometricAngles angles_from_degrees(double g, double i, double e) {
     a.sin_i = sin_deg(i);
     a.sin_e = sin_deg(e);
     a.g_deg = g;
-    const double sinei = a.sin_i * a.sin_e;
-    a.cos_psi = sinei == 0.0 ? 1.0 : std::clamp((cos_deg(g) - a.mu0 * a.mu) / sinei, -1.0, 1.0);
+    if (a.sin_i * a.sin_e == 0.0) return a;   // psi = 0
+    const double s = sin_deg(0.5 * (g + i - e)) * sin_deg(0.5 * (g - i + e));
+    const double c = sin_deg(0.5 * (i + e + g)) * sin_deg(0.5 * (i + e - g));
+    a.psi = s <= 0.0 ? 0.0 : (c <= 0.0 ? kPi : 2.0 * std::atan2(std::sqrt(s), std::sqrt(c)));
     return a;
 }
 
@@ -128,8 +138,8 @@ PhotometricAngles angles_from_vectors(const glm::dvec3& N0, const glm::dvec3& L0
     a.sin_i = glm::length(nl);
     a.sin_e = glm::length(nv);
     a.g_deg = std::atan2(glm::length(glm::cross(L, V)), glm::dot(L, V)) / kDeg;
-    const double sinei = a.sin_i * a.sin_e;
-    a.cos_psi = sinei > 0.0 ? std::clamp(glm::dot(nl, nv) / sinei, -1.0, 1.0) : 1.0;
+    // the angle between N x L and N x V: atan2(|a x b|, a . b), accurate at 0 and pi
+    a.psi = a.sin_i * a.sin_e > 0.0 ? std::atan2(glm::length(glm::cross(nl, nv)), glm::dot(nl, nv)) : 0.0;
     return a;
 }
 

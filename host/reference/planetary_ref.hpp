@@ -10,15 +10,19 @@
 
 namespace shadelab::ref {
 
-// The photometric quantities a law reads. cos_psi: cosine of the azimuth between the planes of incidence and
-// emission, (cos g - mu0 mu) / (sin i sin e) clamped to [-1, 1], 1 when either sine is 0 (as ISIS).
+// The photometric quantities a law reads. psi: the azimuth between the planes of incidence and emission, radians,
+// whose cosine is (cos g - mu0 mu) / (sin i sin e) clamped to [-1, 1] (as ISIS), 0 when either sine is 0. It is
+// computed without going through that cosine (see angles_from_degrees): near psi = 0 at grazing, Hapke's
+// shadowing S(i, e, psi) changes by ~1% for psi = 1e-8 rad, the uncertainty acos(cos psi) leaves in double.
 struct PhotometricAngles {
     double mu0 = 1.0, mu = 1.0, sin_i = 0.0, sin_e = 0.0;
-    double g_deg = 0.0, cos_psi = 1.0;
+    double g_deg = 0.0, psi = 0.0;
 };
 
 // From degrees. cos and sin are exact at multiples of 90 degrees (cos 90 = 0, not 6e-17), so a surface at
-// i = 90 is unlit and at e = 90 unseen.
+// i = 90 is unlit and at e = 90 unseen. psi = 2 atan2(sqrt(s), sqrt(c)) with the half-angle products
+// s = sin((g+i-e)/2) sin((g-i+e)/2), c = sin((i+e+g)/2) sin((i+e-g)/2) (proportional to sin^2(psi/2), cos^2(psi/2));
+// a phase no facet can have gives s < 0 (psi = 0) or c < 0 (psi = pi), ISIS's clamps.
 PhotometricAngles angles_from_degrees(double phase_deg, double incidence_deg, double emission_deg);
 // From unit vectors (renormalised in double).
 PhotometricAngles angles_from_vectors(const glm::dvec3& N, const glm::dvec3& L, const glm::dvec3& V);

@@ -24,10 +24,13 @@
 #define PHO_PI 3.14159265358979323846f
 
 // ---- photometric geometry -----------------------------------------------------------------------------
-// mu0 = cos i, mu = cos e, sin i, sin e, cos g, t = tan(g/2) and cos psi, psi the azimuth between the planes of
-// incidence and emission (0 when either sine is 0, as ISIS). Padded past 16 bytes (common.cl says why).
+// mu0 = cos i, mu = cos e, sin i, sin e, cos g, tan(g/2) and tan(psi/2), psi the azimuth between the planes of
+// incidence and emission (0 when either sine is 0, as ISIS). Half-angle tangents rather than cosines: they keep
+// their digits at 0 and 180 degrees, where a float cosine within 6e-8 of +-1 leaves the angle uncertain by 3.5e-4
+// rad (at theta-bar = 89 deg that moves Hapke's S(i, e, psi) by several percent near psi = 0).
+// Padded past 16 bytes (common.cl says why).
 typedef struct {
-    float mu0, mu, sin_i, sin_e, cos_g, tan_half_g, cos_psi, pad_[2];
+    float mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, pad_[2];
 } sl_pho;
 
 // The largest tan(g/2) used: at g = 180 deg tan is infinite, and 0 * inf (a zero 1/h) would be NaN.
@@ -35,8 +38,9 @@ typedef struct {
 
 // From unit vectors. sin i = |N x L| (no cancellation near i = 0, where sqrt(1 - NoL^2) keeps no digit);
 // tan(g/2) = |L - V| / |L + V| (exact for unit vectors, accurate at g -> 0 where acos(LoV) is not: float LoV
-// is within 6e-8 of 1 for g < 3.5e-4 rad); cos psi = (N x L).(N x V) / (|N x L| |N x V|), the same as
-// (cos g - mu0 mu) / (sin i sin e) without its cancellation.
+// is within 6e-8 of 1 for g < 3.5e-4 rad); tan(psi/2) = |u - v| / |u + v| for the unit directions u, v of N x L
+// and N x V, formed as |a |b| - b |a|| / |a |b| + b |a|| with a = N x L, b = N x V (no normalisation, no
+// cancellation).
 SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     sl_pho g;
     const sl_v3 nl = sl_cross(N, L), nv = sl_cross(N, V);
@@ -47,8 +51,10 @@ SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     g.cos_g = sl_dot(L, V);
     const sl_v3 d = sl_sub(L, V), s = sl_add(L, V);
     g.tan_half_g = fmin(sqrt(sl_dot(d, d) / sl_dot(s, s)), PHO_TAN_MAX);   // d/0 = inf, clamped (g = 180)
-    const float sinei = g.sin_i * g.sin_e;
-    g.cos_psi = sinei > 0.0f ? clamp(sl_dot(nl, nv) / sinei, -1.0f, 1.0f) : 1.0f;
+    const sl_v3 pd = sl_sub(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const sl_v3 ps = sl_add(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const float t_psi = fmin(sqrt(sl_dot(pd, pd) / sl_dot(ps, ps)), PHO_TAN_MAX);
+    g.tan_half_psi = g.sin_i * g.sin_e > 0.0f ? t_psi : 0.0f;   // no azimuth along N: psi = 0 (ISIS)
     return g;
 }
 
@@ -156,8 +162,8 @@ SL_INLINE float Hapke_smooth(float mu0, float mu, float w_over_4, float gamma, f
 
 // E1(x) = exp(-(2/pi) cot(theta) cot x) and E2(x) = exp(-(1/pi) cot^2(theta) cot^2 x) (Hapke 1984, eqs. 45-46).
 // The host passes (2/pi) cot(theta) and (1/pi) cot^2(theta), capped at 1e15 and 1e30 (theta -> 0: the terms are
-// 0 already; the cap keeps cot^2 finite in float, where inf * 0 at cot x = 0 would be NaN).
-SL_INLINE float Hapke_E1(float cot_x, float k1) { return Pho_exp(-k1 * cot_x); }
+// 0 already; the cap keeps cot^2 finite in float, where inf * 0 at cot x = 0 would be NaN). E1 is used as
+// 1 - E1 (Pho_one_minus_exp_neg, in Hapke_rough).
 SL_INLINE float Hapke_E2(float cot_x, float k2) { return Pho_exp(-k2 * cot_x * cot_x); }
 
 // mu_e(0) of a direction at angle x (Hapke 1984, eqs. 48-49):  chi (cos x + sin x tan(theta) E2(x) / (2 - E1(x))),
@@ -166,37 +172,56 @@ SL_INLINE float Hapke_eta(float cos_x, float sin_x, float e1, float e2, float ch
     return chi * (cos_x + sin_x * tan_t * e2 / (2.0f - e1));
 }
 
+// 1 - exp(-x) for x >= 0 without the cancellation of 1 - Pho_exp(-x) at small x (theta-bar -> 90 deg makes
+// every E1 -> 1): below 0.03 by its Taylor series to x^4 (remainder < x^5/120 = 2e-10 of it).
+SL_INLINE float Pho_one_minus_exp_neg(float x) {
+    const float taylor = x * (1.0f - x * (0.5f - x * (1.0f / 6.0f - x * (1.0f / 24.0f))));
+    return x < 0.03f ? taylor : 1.0f - Pho_exp(-x);
+}
+
 // Hapke (1984) macroscopic roughness: the smooth reflectance at the effective cosines mu0e, mue times the shadowing
 // function S(i, e, psi) (eqs. 46-51, the i <= e and i > e cases), ISIS's formulation. `P` and `B` are the phase
 // function and the opposition term (not affected by roughness).
 // c[5] = chi, c[6] = tan(theta), c[7] = (2/pi) cot(theta), c[8] = (1/pi) cot^2(theta).
+// Float care: the denominators 2 - E1(e) - (psi/pi) E1(i) are formed as the sum of the non-negative terms
+// (1 - E1(e)) + (1 - psi/pi) + (psi/pi)(1 - E1(i)), with 1 - psi/pi = (2/pi) atan(1/tan(psi/2)): written as the
+// paper has them they cancel to nothing (and change sign in float) where theta-bar -> 90 deg and psi -> 180 deg.
+// The effective cosines are floored at 0 (they are cosines; at theta-bar -> 90 deg the float sum of a cosine and
+// a large tan(theta) term can round below 0), and the law is 0 where both are 0.
 SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, float P, __constant const ModelConsts* mc) {
     const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
     // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
     const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
-    const float e1i = Hapke_E1(cot_i, k1), e2i = Hapke_E2(cot_i, k2);
-    const float e1e = Hapke_E1(cot_e, k1), e2e = Hapke_E2(cot_e, k2);
+    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
+    const float e1i = 1.0f - om1i, e1e = 1.0f - om1e;
+    const float e2i = Hapke_E2(cot_i, k2), e2e = Hapke_E2(cot_e, k2);
     const float eta_i = Hapke_eta(g.mu0, g.sin_i, e1i, e2i, chi, tan_t);
     const float eta_e = Hapke_eta(g.mu, g.sin_e, e1e, e2e, chi, tan_t);
-    // the azimuth psi: tan(psi/2) = sqrt((1 - cos psi) / (1 + cos psi)), psi / pi, sin^2(psi/2), f(psi)
-    const float c = g.cos_psi;
-    const float tan_half_psi = sqrt((1.0f - c) / (1.0f + c));   // c = -1: inf (psi = 180 deg, f = 0)
+    // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
+    const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
+    const float c = (1.0f - t2) / (1.0f + t2);
+    const float sin2_half_psi = t2 / (1.0f + t2);
     const float psi_over_pi = 2.0f * Pho_atan(tan_half_psi) / PHO_PI;
-    const float sin2_half_psi = 0.5f * (1.0f - c);
-    const float f = Pho_exp(-2.0f * tan_half_psi);   // f(psi) = exp(-2 tan(psi/2)) (Hapke 1984, eq. 50)
-    // i <= e (mu0 >= mu) and i > e: eqs. 46-47 and 50-51; both are formed and one selected (no branch)
-    const int i_le_e = g.mu0 >= g.mu;
-    const float den_ie = 2.0f - e1e - psi_over_pi * e1i;   // i <= e
-    const float den_ei = 2.0f - e1i - psi_over_pi * e1e;   // i > e
+    const float one_minus_psi_over_pi = 2.0f * Pho_atan(1.0f / tan_half_psi) / PHO_PI;   // 1/0 = inf: 1
+    // f(psi) = exp(-2 tan(psi/2)) (Hapke 1984, eq. 50), used as 1 - f: at grazing with a large theta-bar, S
+    // depends on 1 - f ~ psi against q ~ chi mu0 / eta_i, both tiny; 1 - Pho_exp(.) would round 1 - f to 0 for
+    // psi < 6e-8 rad
+    const float one_minus_f = Pho_one_minus_exp_neg(2.0f * tan_half_psi);
+    // i <= e and i > e: eqs. 46-47 and 50-51; both are formed and one selected (no branch). i <= e is mu0 > mu,
+    // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
+    const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
+    const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
+    const float den_ei = om1i + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - (psi/pi) E1(e)
     const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t * (c * e2e + sin2_half_psi * e2i) / den_ie);
     const float mue_ie = chi * (g.mu + g.sin_e * tan_t * (e2e - sin2_half_psi * e2i) / den_ie);
     const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
     const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
-    const float mu0e = i_le_e ? mu0e_ie : mu0e_ei, mue = i_le_e ? mue_ie : mue_ei;
+    const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f), mue = fmax(i_le_e ? mue_ie : mue_ei, 0.0f);
     const float q = i_le_e ? chi * g.mu0 / eta_i : chi * g.mu / eta_e;
     // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
-    const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (1.0f - f + f * q);
-    return Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
+    const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (one_minus_f + (1.0f - one_minus_f) * q);
+    const float r = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
+    return mu0e + mue > 0.0f ? r : 0.0f;
 }
 
 // Hapke's model with either phase function: c[0] = w/4, c[1] = gamma = sqrt(1 - w), c[2] = B0 (0 if h = 0),
