@@ -330,9 +330,9 @@ TEST_CASE("bad photometric parameter files: one line naming the file, the keywor
     const std::vector<Bad> bad = {
         {"unknown model", "    Name = Hopkins\n", {"bad.pvl:3", "Name = Hopkins", "HapkeHen", "LunarLambertEmpirical"}},
         {"no Name", "    Wh = 0.5\n", {"bad.pvl:2", "no keyword Name"}},
-        {"Wh above 1", "    Name = HapkeHen\n    Wh = 1.5\n", {"bad.pvl:4", "Wh = 1.5", "allowed 0 < Wh <= 1"}},
-        {"Wh = 0", "    Name = HapkeHen\n    Wh = 0\n", {"bad.pvl:4", "Wh = 0", "allowed 0 < Wh <= 1"}},
-        {"Wh negative", "    Name = HapkeLeg\n    Wh = -0.1\n", {"Wh = -0.1", "allowed 0 < Wh <= 1"}},
+        {"Wh above 1", "    Name = HapkeHen\n    Wh = 1.5\n", {"bad.pvl:4", "Wh = 1.5", "allowed 1e-06 <= Wh <= 1", "ISIS: 0 < Wh <= 1"}},
+        {"Wh = 0", "    Name = HapkeHen\n    Wh = 0\n", {"bad.pvl:4", "Wh = 0", "allowed 1e-06 <= Wh <= 1"}},
+        {"Wh negative", "    Name = HapkeLeg\n    Wh = -0.1\n", {"Wh = -0.1", "allowed 1e-06 <= Wh <= 1"}},
         {"Hg1 = 1", "    Name = HapkeHen\n    Hg1 = 1\n", {"bad.pvl:4", "Hg1 = 1", "-0.9999 <= Hg1 <= 0.9999", "-1 < Hg1 < 1"}},
         {"Hg1 = -1", "    Name = HapkeHen\n    Hg1 = -1\n", {"Hg1 = -1", "allowed"}},
         {"Hg2 above 1", "    Name = HapkeHen\n    Hg2 = 1.2\n", {"Hg2 = 1.2", "allowed 0 <= Hg2 <= 1"}},

@@ -26,9 +26,9 @@ ModelInfo base(const char* name, const char* summary, const char* source, const 
 
 // McEwen's lunar L(g) cubic (McEwen 1996; ISIS's LunarLambertMcEwen hard-codes these three).
 const std::vector<ParamSpec> kMcEwenParams = {
-    {"m1", -0.019, -0.1, 0.1, "McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3, g in degrees: linear coefficient"},
-    {"m2", 0.000242, -0.01, 0.01, "quadratic coefficient of L(g)"},
-    {"m3", -0.00000146, -1e-4, 1e-4, "cubic coefficient of L(g)"},
+    {"m1", -0.019, -0.05, 0.05, "McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3, g in degrees: linear coefficient"},
+    {"m2", 0.000242, -0.001, 0.001, "quadratic coefficient of L(g)"},
+    {"m3", -0.00000146, -1e-5, 1e-5, "cubic coefficient of L(g)"},
 };
 
 double mcewen_L(const std::vector<double>& p, double g_deg) {
@@ -38,7 +38,7 @@ double mcewen_L(const std::vector<double>& p, double g_deg) {
 // The parameters both Hapke variants share (ISIS's keywords Wh, B0, Hh, Theta; its defaults).
 std::vector<ParamSpec> hapke_common() {
     return {
-        {"wh", 0.5, 0.0, 1.0, "single-scattering albedo w (ISIS Wh; ISIS requires 0 < w <= 1)"},
+        {"wh", 0.5, 1e-6, 1.0, "single-scattering albedo w (ISIS Wh; ISIS requires 0 < w <= 1)"},
         {"b0", 0.0, 0.0, 10.0, "opposition surge amplitude B0 (ISIS B0 >= 0; 0 = no surge)"},
         {"hh", 0.0, 0.0, 10.0, "opposition surge width h (ISIS Hh >= 0; 0 = no surge, as ISIS)"},
         {"theta", 0.0, 0.0, 90.0, "macroscopic roughness theta-bar, degrees (ISIS Theta; 0 = smooth)"},
@@ -106,7 +106,7 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
             // R30 = r at the standard geometry g = 30, i = 30, e = 0 (mu0 = cos 30, mu = 1), ISIS's choice
             const double L30 = mcewen_L(p, 30.0), c30 = std::cos(30.0 * kPi / 180.0);
             c[3] = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
-            c[4] = 1e-6f;   // floor of r (kernel comment)
+            c[4] = 1e-3f;   // floor of r (kernel comment)
         };
         m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
         m.energy_conserving = false;

@@ -46,7 +46,7 @@ struct ModelSpec {
 };
 
 const std::vector<KeySpec> kHapkeCommon = {
-    {"Wh", "wh", 0.5, 0.0, 1.0, true, false, nullptr},
+    {"Wh", "wh", 0.5, 1e-6, 1.0, false, false, "ISIS: 0 < Wh <= 1"},
     {"B0", "b0", 0.0, 0.0, 10.0, false, false, "ISIS: B0 >= 0"},
     {"Hh", "hh", 0.0, 0.0, 10.0, false, false, "ISIS: Hh >= 0"},
     {"Theta", "theta", 0.0, 0.0, 90.0, false, false, nullptr},

@@ -155,11 +155,11 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
     if (m.model == "lunar_lambert") return Pho_LunarLambert(a.mu0, a.mu, m.params.at("l"));
     if (m.model == "lunar_lambert_mcewen") return Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
     if (m.model == "lunar_lambert_mcewen_ratio") {
-        // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-6 (kernel comment).
+        // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-3 (kernel comment).
         const double c30 = std::cos(30.0 * kDeg);
         const double r30 = Pho_LunarLambert(c30, 1.0, mcewen_L(m, 30.0));
         const double r = Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
-        return r > 0.0 ? r30 / std::max(r, 1e-6) : 0.0;
+        return r > 0.0 ? r30 / std::max(r, 1e-3) : 0.0;
     }
     if (m.model == "hapke_hen")
         return Hapke_value(a, m, Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2")));

@@ -253,8 +253,9 @@ SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts*
 
 // lunar_lambert_mcewen_ratio: what ISIS's LunarLambertMcEwen returns, the normalising ratio
 //   R30 / r(g, i, e),  r = Lunar-Lambert with L(g),  R30 = r(30, 30, 0) (c[3], computed on the host);
-// 0 where r <= 0 (ISIS). r is floored at 1e-6 (c[4]) so that the ratio stays finite at the terminator
-// (ISIS divides by r as it is); the floor only acts where mu0 < 1e-6 or so.
+// 0 where r <= 0 (ISIS). r is floored at 1e-3 (c[4]), capping the ratio at 1000 R30 (ISIS divides by r as it
+// is, and the ratio grows without bound at the terminator); the floor acts where mu0 < ~1e-3 (i > 89.94 deg) or
+// where McEwen's L(g) < 0 brings r itself near 0.
 SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelConsts* mc) {
     const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
     const float r = Pho_LunarLambert(g.mu0, g.mu, L);
