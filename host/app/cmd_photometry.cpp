@@ -2,6 +2,7 @@
 // files or by catalogue name, on PoCL (docs/photometry.md).
 //   photometry eval --pvl FILE --phase G --incidence I --emission E    the value, last number on stdout
 //   photometry eval --pvl FILE --csv IN.csv -o OUT.csv                 every row of a table, a `value` column added
+//   photometry empirical --pvl HAPKE.pvl --law lunar_lambert ... -o TABLE.pvl   ISIS phoempglobal's tables
 #include <chrono>
 #include <iomanip>
 #include <iostream>
@@ -11,7 +12,9 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/atomic_file.hpp"
 #include "photometry/csv.hpp"
+#include "photometry/empirical.hpp"
 #include "photometry/isis.hpp"
 
 namespace shadelab::app {
@@ -75,6 +78,39 @@ void run_eval(const EvalArgs& a) {
               << "wrote: " << a.out << "\n";
 }
 
+struct EmpiricalArgs {
+    std::string pvl, model, law = "lunar_lambert", out;
+    std::vector<std::string> params;
+    photometry::EmpiricalOptions o;
+};
+
+void run_empirical(const EmpiricalArgs& a) {
+    EvalArgs ea;
+    ea.pvl = a.pvl;
+    ea.model = a.model;
+    ea.params = a.params;
+    const photometry::Law hapke = law_from_args(ea);
+    for (const auto& w : hapke.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    photometry::EmpiricalOptions o = a.o;
+    if (a.law == "lunar_lambert" || a.law == "lunarlambert") o.law = 2;
+    else if (a.law == "minnaert") o.law = 1;
+    else throw Error("photometry empirical: --law '" + a.law + "' is unknown: use lunar_lambert or minnaert");
+    if (a.out.empty()) throw Error("photometry empirical: give the output table with -o TABLE.pvl");
+    Runtime rt;
+    const photometry::EmpiricalTable t = photometry::fit_empirical(rt, hapke, o);
+    for (const auto& w : t.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    std::cout << "law: " << hapke.describe() << "\n"
+              << (o.law == 1 ? "Minnaert K(g)" : "Lunar-Lambert L(g)") << " fitted at " << t.rows.size()
+              << " phases, " << (o.offset ? "with" : "without") << " an additive offset\n"
+              << std::setw(10) << "phase" << std::setw(14) << (o.law == 1 ? "K" : "L") << std::setw(14) << "B"
+              << std::setw(14) << "rms" << std::setw(9) << "samples" << "\n";
+    for (const auto& r : t.rows)
+        std::cout << std::setw(10) << r.phase << std::setw(14) << r.param << std::setw(14) << r.brightness
+                  << std::setw(14) << r.rms << std::setw(9) << r.samples << "\n";
+    write_text_atomically(a.out, "photometric table", photometry::empirical_pvl(t, o, hapke));
+    std::cout << "wrote: " << a.out << "\n";
+}
+
 }  // namespace
 
 void add_photometry_command(CLI::App& app) {
@@ -94,6 +130,26 @@ void add_photometry_command(CLI::App& app) {
     ev->add_flag("--reference", a->reference, "also print the double-precision reference (one geometry)");
     ev->add_option("--precision", a->precision, "precise | fast (docs/precision.md)")->capture_default_str();
     ev->callback([a] { run_eval(*a); });
+
+    auto b = std::make_shared<EmpiricalArgs>();
+    auto* em = cmd->add_subcommand("empirical", "Fit Lunar-Lambert L(g) or Minnaert K(g) and a phase curve to a Hapke "
+                                                "sphere, as ISIS's phoempglobal; write the PVL table ISIS reads");
+    em->add_option("--pvl", b->pvl, "Hapke parameters: ISIS PVL with Name = HapkeHen or HapkeLeg");
+    em->add_option("--model", b->model, "or hapke_hen / hapke_leg by name, with -p");
+    em->add_option("-p,--param", b->params, "name=value parameter of --model (repeatable)");
+    em->add_option("--law", b->law, "lunar_lambert | minnaert")->capture_default_str();
+    em->add_option("--nph", b->o.nph, "number of phase angles")->capture_default_str();
+    em->add_option("--phmin", b->o.phmin, "first phase angle, degrees")->capture_default_str();
+    em->add_option("--phmax", b->o.phmax, "last phase angle, degrees")->capture_default_str();
+    em->add_option("--incmin", b->o.incmin, "smallest incidence fitted, degrees")->capture_default_str();
+    em->add_option("--incmax", b->o.incmax, "largest incidence fitted, degrees")->capture_default_str();
+    em->add_option("--emamin", b->o.emamin, "smallest emission fitted, degrees")->capture_default_str();
+    em->add_option("--emamax", b->o.emamax, "largest emission fitted at zero phase, degrees")->capture_default_str();
+    em->add_option("--emamax-pcoeff", b->o.emamax_pcoeff, "the emission limit grows by this times the phase")
+        ->capture_default_str();
+    em->add_flag("--offset", b->o.offset, "fit an additive offset too (phoempglobal's IORD); B is then not normalised");
+    em->add_option("-o,--out", b->out, "output PVL table");
+    em->callback([b] { run_empirical(*b); });
 }
 
 }  // namespace shadelab::app
