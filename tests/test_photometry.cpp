@@ -399,7 +399,7 @@ TEST_CASE("geometry out of range: phase, incidence, emission outside [0, 180] na
     }
 }
 
-TEST_CASE("photometry CSV: values per row equal the single evaluations; other columns kept; bad rows named",
+TEST_CASE("photometry CSV: values per row equal the single evaluations, other columns kept, bad rows named",
           "[photometry][csv]") {
     const auto dir = test::scratch_dir("photometry-csv");
     const auto pvl_path = write(dir, "hapke.pvl", kHapkeHen2);

@@ -248,7 +248,7 @@ TEST_CASE("planetary kernels against the references over the catalogue's vector 
     }
 }
 
-TEST_CASE("identities: Lunar-Lambert L = 0 is Lambert, L = 1 Lommel-Seeliger; isotropic Hapke in both phase forms; "
+TEST_CASE("identities: Lunar-Lambert L = 0 is Lambert, L = 1 Lommel-Seeliger, isotropic Hapke in both phase forms, "
           "McEwen's ratio is R30 over McEwen's law", "[planetary]") {
     std::mt19937_64 gen(5);
     for (int j = 0; j < 20000; ++j) {
@@ -267,7 +267,7 @@ TEST_CASE("identities: Lunar-Lambert L = 0 is Lambert, L = 1 Lommel-Seeliger; is
         CHECK(val("hapke_hen", hen) == Approx(val("hapke_leg", leg)).epsilon(1e-13).margin(1e-15));
         const double c30 = std::cos(M_PI / 6), L30 = 1 - 0.019 * 30 + 0.000242 * 900 - 0.00000146 * 27000;
         const double r = val("lunar_lambert_mcewen", {});
-        if (r > 1e-6) CHECK(val("lunar_lambert_mcewen_ratio", {}) == Approx((2 * L30 * c30 / (1 + c30) + (1 - L30) * c30) / r).epsilon(1e-12));
+        if (r > 1e-3) CHECK(val("lunar_lambert_mcewen_ratio", {}) == Approx((2 * L30 * c30 / (1 + c30) + (1 - L30) * c30) / r).epsilon(1e-12));
     }
 }
 
@@ -301,7 +301,7 @@ TEST_CASE("edge: Hapke at grazing incidence and emission stays finite and goes t
     }
 }
 
-TEST_CASE("edge: theta-bar near 0 joins the smooth law away from grazing; theta-bar large (60, 89, 90) stays finite",
+TEST_CASE("edge: theta-bar near 0 joins the smooth law away from grazing, theta-bar large (60, 89, 90) stays finite",
           "[planetary][edge]") {
     std::mt19937_64 gen(11);
     const std::map<std::string, double> base = {{"wh", 0.5}, {"b0", 1.0}, {"hh", 0.1}, {"hg1", 0.3}, {"hg2", 0.4}};

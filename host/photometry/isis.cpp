@@ -358,8 +358,10 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
         const auto consts = law.empirical ? std::vector<ModelConsts>{} : pack_material(law.material);
         const std::size_t chunk = std::size_t(1) << 22, local = 256;
         for (std::size_t first = 0; first < rows.size(); first += chunk) {
-            const std::size_t n = std::min(chunk, rows.size() - first);
-            std::vector<float> mu0(n), mu(n), a(n), b(n), c(n), d(n), e(n);
+            const std::size_t n = std::min(chunk, rows.size() - first), padded = round_up(n, local);
+            // padded to the launch size (eval_photometric has no bounds check): the padding is mu0 = mu = 0, unlit
+            std::vector<float> mu0(padded, 0.0f), mu(padded, 0.0f), a(padded, 0.0f), b(padded, 0.0f), c(padded, 0.0f),
+                d(padded, 0.0f), e(padded, 0.0f);
             for (std::size_t j = 0; j < n; ++j) {
                 const Geometry& g = rows[first + j];
                 mu0[j] = float(cosd(g.incidence));
@@ -376,7 +378,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 d[j] = float(g.phase >= 180.0 ? 1e18 : std::tan(0.5 * g.phase * kDeg));
                 e[j] = float(tan_half_azimuth(g, si, se));
             }
-            cl::Buffer bout(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+            cl::Buffer bout(rt.context(), CL_MEM_WRITE_ONLY, padded * sizeof(float));
             cl::Kernel k;
             std::vector<cl::Buffer> keep;
             if (law.empirical) {
@@ -397,7 +399,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 k.setArg(8, cl_uint(n));
                 k.setArg(9, keep.back());
             }
-            rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, local)), cl::NDRange(local));
+            rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NDRange(local));
             std::vector<float> out(n);
             rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
             for (std::size_t j = 0; j < n; ++j) result[first + j] = out[j];

@@ -142,11 +142,13 @@ SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, floa
 //   P(g) = (1 - c) (1 - b^2) / (1 + b^2 + 2 b cos g)^(3/2) + c (1 - b^2) / (1 + b^2 - 2 b cos g)^(3/2),
 // b = Hg1, c = Hg2. c[9] = (1 - |b|)^2, c[10] = 2|b|, c[11] = 1 if b >= 0, c[12] = 1 - b^2, c[13] = c, c[14] = 1 - c.
 SL_INLINE float Hapke_P_HG2(float t, __constant const ModelConsts* mc) {
+    const float a = mc->c[9], two_abs_b = mc->c[10], b_pos_flag = mc->c[11], one_minus_b2 = mc->c[12];
+    const float c = mc->c[13], one_minus_c = mc->c[14];
     const float opc = Pho_one_plus_cos_g(t), omc = Pho_one_minus_cos_g(t);
-    const int b_pos = mc->c[11] != 0.0f;
-    const float first = Hapke_HG_lobe(mc->c[12], mc->c[9], mc->c[10], b_pos ? opc : omc);    // + 2 b cos g
-    const float second = Hapke_HG_lobe(mc->c[12], mc->c[9], mc->c[10], b_pos ? omc : opc);   // - 2 b cos g
-    return mc->c[14] * first + mc->c[13] * second;
+    const int b_pos = b_pos_flag != 0.0f;
+    const float first = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? opc : omc);    // + 2 b cos g
+    const float second = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? omc : opc);   // - 2 b cos g
+    return one_minus_c * first + c * second;
 }
 
 // Hapke's (1981) Legendre phase function (HapkeLeg): P(g) = 1 + b cos g + c (3 cos^2 g - 1) / 2.
@@ -188,8 +190,8 @@ SL_INLINE float Pho_one_minus_exp_neg(float x) {
 // paper has them they cancel to nothing (and change sign in float) where theta-bar -> 90 deg and psi -> 180 deg.
 // The effective cosines are floored at 0 (they are cosines; at theta-bar -> 90 deg the float sum of a cosine and
 // a large tan(theta) term can round below 0), and the law is 0 where both are 0.
-SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, float P, __constant const ModelConsts* mc) {
-    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, float P, float chi, float tan_t, float k1,
+                            float k2) {
     // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
     const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
     const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
@@ -226,10 +228,15 @@ SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, floa
 
 // Hapke's model with either phase function: c[0] = w/4, c[1] = gamma = sqrt(1 - w), c[2] = B0 (0 if h = 0),
 // c[3] = 1/h (0 if h = 0), c[4] = 1 for a rough surface (theta > 0), else the smooth law (ISIS: theta <= 0).
+// Every constant is read before any choice is made: a load under a condition is one PoCL's vectorised work-item
+// loop cannot hoist (kernels/shade.cl), and both laws are formed and one selected.
 SL_INLINE float Hapke_value(sl_pho g, float P, __constant const ModelConsts* mc) {
-    const float B = Hapke_B(g.tan_half_g, mc->c[2], mc->c[3]);
-    const float smooth = Hapke_smooth(g.mu0, g.mu, mc->c[0], mc->c[1], B, P);
-    return mc->c[4] != 0.0f ? Hapke_rough(g, mc->c[0], mc->c[1], B, P, mc) : smooth;
+    const float w_over_4 = mc->c[0], gamma = mc->c[1], b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
+    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+    const float B = Hapke_B(g.tan_half_g, b0, inv_h);
+    const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
+    const float rough = Hapke_rough(g, w_over_4, gamma, B, P, chi, tan_t, k1, k2);
+    return rough_flag != 0.0f ? rough : smooth;
 }
 
 // ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
@@ -257,9 +264,10 @@ SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts*
 // is, and the ratio grows without bound at the terminator); the floor acts where mu0 < ~1e-3 (i > 89.94 deg) or
 // where McEwen's L(g) < 0 brings r itself near 0.
 SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float r30 = mc->c[3], r_floor = mc->c[4];
     const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
     const float r = Pho_LunarLambert(g.mu0, g.mu, L);
-    return Pho_visible(g) && r > 0.0f ? mc->c[3] / fmax(r, mc->c[4]) : 0.0f;
+    return Pho_visible(g) && r > 0.0f ? r30 / fmax(r, r_floor) : 0.0f;
 }
 
 // hapke_hen: Hapke with the two-term Henyey-Greenstein phase function (ISIS HapkeHen).
@@ -270,7 +278,8 @@ SL_INLINE float hapke_hen_pho(sl_pho g, __constant const ModelConsts* mc) {
 
 // hapke_leg: Hapke with the Legendre phase function (ISIS HapkeLeg). c[9] = b (Bh), c[10] = c (Ch).
 SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, mc->c[9], mc->c[10]), mc);
+    const float bh = mc->c[9], ch = mc->c[10];
+    const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, bh, ch), mc);
     return Pho_visible(g) ? v : 0.0f;
 }
 
