@@ -4,10 +4,12 @@
 //   photometry eval --pvl FILE --csv IN.csv -o OUT.csv                 every row of a table, a `value` column added
 //   photometry empirical --pvl HAPKE.pvl --law lunar_lambert ... -o TABLE.pvl   ISIS phoempglobal's tables
 #include <chrono>
+#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <sstream>
 
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
@@ -24,7 +26,7 @@ namespace {
 struct EvalArgs {
     std::string pvl, model, csv, out, precision = "precise";
     std::vector<std::string> params;
-    double phase = -1.0, incidence = -1.0, emission = -1.0;
+    double phase = NAN, incidence = NAN, emission = NAN;   // NaN: not given
     bool reference = false;
 };
 
@@ -44,16 +46,25 @@ void run_eval(const EvalArgs& a) {
     const photometry::Law law = law_from_args(a);
     const Precision precision = parse_precision(a.precision);
     for (const auto& w : law.warnings) std::cerr << "shadelab: warning: " << w << "\n";
-    const bool single = a.phase >= 0.0 || a.incidence >= 0.0 || a.emission >= 0.0;
+    const bool single = !std::isnan(a.phase) || !std::isnan(a.incidence) || !std::isnan(a.emission);
     if (single == !a.csv.empty())
         throw Error("photometry eval: give either --phase, --incidence and --emission (one geometry) or --csv IN.csv -o OUT.csv");
+    if (single) {
+        if (std::isnan(a.phase) || std::isnan(a.incidence) || std::isnan(a.emission))
+            throw Error("photometry eval: --phase, --incidence and --emission are all needed (degrees, 0 to 180)");
+        const std::pair<const char*, double> given[] = {
+            {"--phase", a.phase}, {"--incidence", a.incidence}, {"--emission", a.emission}};
+        for (const auto& [opt, v] : given)
+            if (!std::isfinite(v) || v < 0.0 || v > 180.0) {
+                std::ostringstream m;
+                m << "photometry eval: " << opt << " " << v << " is out of range: allowed 0 to 180 degrees";
+                throw Error(m.str());
+            }
+    }
     Runtime rt;
     std::cout << "law: " << law.describe() << "\n";
     if (single) {
-        if (a.phase < 0.0 || a.incidence < 0.0 || a.emission < 0.0)
-            throw Error("photometry eval: --phase, --incidence and --emission are all needed (degrees, 0 to 180)");
         const photometry::Geometry g{a.phase, a.incidence, a.emission};
-        photometry::check_geometry(g, "photometry eval");
         const double v = photometry::evaluate(rt, law, {g}, precision)[0];
         std::cout << "geometry: phase " << g.phase << " deg, incidence " << g.incidence << " deg, emission "
                   << g.emission << " deg\n";
