@@ -108,6 +108,7 @@ const Bound kBounds[] = {
     {"lunar_lambert_mcewen_ratio",   "*",              2.35e-4, 7e-4,           2.35e-4, 7e-4},
     {"hapke_hen",                    "*",              4.00e-6, 1.2e-5,         4.00e-6, 1.2e-5},
     {"hapke_leg",                    "*",              1.07e-5, 3e-5,           1.07e-5, 3e-5},
+    {"hapke_2012",                   "*",              1.85e-6, 6e-6,           1.85e-6, 6e-6},
 };
 // clang-format on
 

@@ -63,6 +63,17 @@ void pack_hapke_common(const std::vector<double>& p, float* c) {
     }
 }
 
+// Henyey-Greenstein constants c[9..14] (kernel: Hapke_P_HG2); b = Hg1, cw = Hg2.
+void pack_hg2(double b, double cw, float* c) {
+    const double s = std::abs(b);
+    c[9] = float((1.0 - s) * (1.0 - s));
+    c[10] = float(2.0 * s);
+    c[11] = b >= 0.0 ? 1.0f : 0.0f;
+    c[12] = float(1.0 - b * b);
+    c[13] = float(cw);
+    c[14] = float(1.0 - cw);
+}
+
 }  // namespace
 
 void register_planetary_family(std::vector<ModelInfo>& out) {
@@ -124,13 +135,7 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
                             "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});
         m.pack = [](const std::vector<double>& p, float* c) {
             pack_hapke_common(p, c);
-            const double b = p[4], cw = p[5], s = std::abs(b);
-            c[9] = float((1.0 - s) * (1.0 - s));
-            c[10] = float(2.0 * s);
-            c[11] = b >= 0.0 ? 1.0f : 0.0f;
-            c[12] = float(1.0 - b * b);
-            c[13] = float(cw);
-            c[14] = float(1.0 - cw);
+            pack_hg2(p[4], p[5], c);
         };
         m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
         m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
@@ -149,6 +154,34 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
             c[10] = float(p[5]);
         };
         m.reciprocal = true;
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("hapke_2012",
+                           "Hapke 2002/2012: better H function, porosity K, coherent backscatter; HG2 P(g), roughness",
+                           "Hapke (2002) Icarus 157:523, (2008) Icarus 195:918, (2012) Theory of Reflectance and "
+                           "Emittance Spectroscopy, eq. 12.55",
+                           "hapke_2012_eval");
+        m.params = hapke_common();
+        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999, "Henyey-Greenstein asymmetry b, as hapke_hen"});
+        m.params.push_back({"hg2", 0.0, 0.0, 1.0, "weight of the second Henyey-Greenstein lobe, as hapke_hen"});
+        m.params.push_back({"phi", 0.0, 0.0, 0.75,
+                            "filling factor phi (porosity 1 - phi): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)); 0: K = 1"});
+        m.params.push_back({"bc0", 0.0, 0.0, 10.0, "coherent-backscatter amplitude B_C0 (0: none)"});
+        m.params.push_back({"hc", 0.0, 0.0, 10.0, "coherent-backscatter width h_C (0: none)"});
+        m.pack = [](const std::vector<double>& p, float* c) {
+            pack_hapke_common(p, c);
+            pack_hg2(p[4], p[5], c);
+            const double w = p[0], gamma = std::sqrt(1.0 - w), phi = p[6], bc0 = p[7], hc = p[8];
+            const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
+            c[15] = float(w);
+            c[16] = float((1.0 - gamma) / (1.0 + gamma));
+            c[17] = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
+            c[18] = hc > 0.0 ? float(bc0) : 0.0f;
+            c[19] = hc > 0.0 ? float(1.0 / hc) : 0.0f;
+        };
+        m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
         m.energy_conserving = false;
         out.push_back(m);
     }

@@ -55,7 +55,8 @@ double Hapke_smooth(double mu0, double mu, double w, double B, double P) {
 // (psi/pi)(1 - E1(y)) with 1 - E1 = -expm1(.), because as printed they cancel to rounding noise (and turn
 // negative) at theta-bar -> 90 deg, psi -> 180 deg even in double; and the effective cosines are floored at 0,
 // the law 0 where both are 0.
-double Hapke_rough(const PhotometricAngles& a, double w, double B, double P, double theta_deg) {
+template <typename Smooth>
+double Hapke_rough(const PhotometricAngles& a, double theta_deg, Smooth smooth) {
     const double t = theta_deg * kDeg;
     const double tan_t = std::tan(t), cot_t = 1.0 / tan_t;
     const double chi = 1.0 / std::sqrt(1.0 + kPi * tan_t * tan_t);
@@ -87,14 +88,49 @@ double Hapke_rough(const PhotometricAngles& a, double w, double B, double P, dou
     mue = std::max(mue, 0.0);
     if (!(mu0e + mue > 0.0)) return 0.0;
     const double S = mue / eta_e * a.mu0 / eta_i * chi / (one_minus_f + (1.0 - one_minus_f) * q);
-    return Hapke_smooth(mu0e, mue, w, B, P) * S;
+    return smooth(mu0e, mue) * S;
+}
+
+// Hapke (2002), eq. 13: H(x) = 1 / (1 - w x [r0 + (1 - 2 r0 x)/2 ln((1 + x)/x)]), r0 = (1 - gamma)/(1 + gamma).
+double Hapke_H2002(double x, double w) {
+    const double g = std::sqrt(1.0 - w), r0 = (1.0 - g) / (1.0 + g);
+    const double xl = x > 0.0 ? x * std::log((1.0 + x) / x) : 0.0;
+    return 1.0 / (1.0 - w * (x * r0 + 0.5 * (1.0 - 2.0 * r0 * x) * xl));
+}
+
+// Hapke (2002) coherent backscatter: B_C(g) = (1 + (1 - exp(-z))/z) / (2 (1 + z)^2), z = tan(g/2)/h_C.
+double Hapke_BC(double g_deg, double bc0, double hc) {
+    if (hc == 0.0 || bc0 == 0.0) return 0.0;
+    if (g_deg >= 180.0) return 0.0;
+    const double z = std::tan(0.5 * g_deg * kDeg) / hc;
+    const double frac = z == 0.0 ? 1.0 : -std::expm1(-z) / z;
+    return bc0 * (1.0 + frac) / (2.0 * (1.0 + z) * (1.0 + z));
+}
+
+// Hapke (2008, 2012 eq. 12.55) without roughness: K (w/4) mu0/(mu0 + mu) [P (1 + B_SH) + H(mu0/K) H(mu/K) - 1] (1 + B_CB).
+double Hapke2012_smooth(double mu0, double mu, double w, double K, double B_SH, double B_CB, double P) {
+    const double M = Hapke_H2002(mu0 / K, w) * Hapke_H2002(mu / K, w) - 1.0;
+    return K * w / 4.0 * mu0 / (mu0 + mu) * (P * (1.0 + B_SH) + M) * (1.0 + B_CB);
 }
 
 double Hapke_value(const PhotometricAngles& a, const Material& m, double P) {
     const double w = m.params.at("wh"), b0 = m.params.at("b0"), h = m.params.at("hh"), theta = m.params.at("theta");
     const double B = Hapke_B(a.g_deg, b0, h);
     if (theta <= 0.0) return Hapke_smooth(a.mu0, a.mu, w, B, P);
-    return Hapke_rough(a, w, B, P, theta);
+    return Hapke_rough(a, theta, [&](double x0, double x) { return Hapke_smooth(x0, x, w, B, P); });
+}
+
+double Hapke2012_value(const PhotometricAngles& a, const Material& m) {
+    const double w = m.params.at("wh"), theta = m.params.at("theta"), phi = m.params.at("phi");
+    const double P = Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2"));
+    const double B_SH = Hapke_B(a.g_deg, m.params.at("b0"), m.params.at("hh"));
+    const double B_CB = Hapke_BC(a.g_deg, m.params.at("bc0"), m.params.at("hc"));
+    // Hapke (2008): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)), 1 at phi = 0
+    const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
+    const double K = phi > 0.0 ? -std::log(1.0 - y) / y : 1.0;
+    auto smooth = [&](double x0, double x) { return Hapke2012_smooth(x0, x, w, K, B_SH, B_CB, P); };
+    if (theta <= 0.0) return smooth(a.mu0, a.mu);
+    return Hapke_rough(a, theta, smooth);
 }
 
 double mcewen_L(const Material& m, double g_deg) {
@@ -145,7 +181,8 @@ PhotometricAngles angles_from_vectors(const glm::dvec3& N0, const glm::dvec3& L0
 
 bool is_planetary_model(const std::string& model) {
     return model == "lommel_seeliger" || model == "lunar_lambert" || model == "lunar_lambert_mcewen" ||
-           model == "lunar_lambert_mcewen_ratio" || model == "hapke_hen" || model == "hapke_leg";
+           model == "lunar_lambert_mcewen_ratio" || model == "hapke_hen" || model == "hapke_leg" ||
+           model == "hapke_2012";
 }
 
 double planetary_value(const Material& m, const PhotometricAngles& a) {
@@ -161,6 +198,7 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
         const double r = Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
         return r > 0.0 ? r30 / std::max(r, 1e-3) : 0.0;
     }
+    if (m.model == "hapke_2012") return Hapke2012_value(a, m);
     if (m.model == "hapke_hen")
         return Hapke_value(a, m, Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2")));
     return Hapke_value(a, m, Hapke_P_Legendre(a.g_deg, m.params.at("bh"), m.params.at("ch")));
@@ -168,7 +206,7 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
 
 void add_planetary_references(Table& t) {
     for (const char* name : {"lommel_seeliger", "lunar_lambert", "lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio",
-                             "hapke_hen", "hapke_leg"})
+                             "hapke_hen", "hapke_leg", "hapke_2012"})
         t[name] = [](const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&, const Material& m) {
             return m.albedo * planetary_value(m, angles_from_vectors(N, L, V));
         };

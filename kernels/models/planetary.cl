@@ -181,17 +181,16 @@ SL_INLINE float Pho_one_minus_exp_neg(float x) {
     return x < 0.03f ? taylor : 1.0f - Pho_exp(-x);
 }
 
-// Hapke (1984) macroscopic roughness: the smooth reflectance at the effective cosines mu0e, mue times the shadowing
-// function S(i, e, psi) (eqs. 46-51, the i <= e and i > e cases), ISIS's formulation. `P` and `B` are the phase
-// function and the opposition term (not affected by roughness).
+// Hapke (1984) macroscopic roughness: the effective cosines mu0e, mue and the shadowing function S(i, e, psi)
+// (eqs. 46-51, the i <= e and i > e cases), ISIS's formulation; the law is the smooth one at mu0e, mue times S.
+// Returns S (0 where both effective cosines are 0) and sets *mu0e, *mue.
 // c[5] = chi, c[6] = tan(theta), c[7] = (2/pi) cot(theta), c[8] = (1/pi) cot^2(theta).
 // Float care: the denominators 2 - E1(e) - (psi/pi) E1(i) are formed as the sum of the non-negative terms
 // (1 - E1(e)) + (1 - psi/pi) + (psi/pi)(1 - E1(i)), with 1 - psi/pi = (2/pi) atan(1/tan(psi/2)): written as the
 // paper has them they cancel to nothing (and change sign in float) where theta-bar -> 90 deg and psi -> 180 deg.
 // The effective cosines are floored at 0 (they are cosines; at theta-bar -> 90 deg the float sum of a cosine and
 // a large tan(theta) term can round below 0), and the law is 0 where both are 0.
-SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, float P, float chi, float tan_t, float k1,
-                            float k2) {
+SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, float k2, float* mu0e_out, float* mue_out) {
     // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
     const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
     const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
@@ -222,8 +221,10 @@ SL_INLINE float Hapke_rough(sl_pho g, float w_over_4, float gamma, float B, floa
     const float q = i_le_e ? chi * g.mu0 / eta_i : chi * g.mu / eta_e;
     // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
     const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (one_minus_f + (1.0f - one_minus_f) * q);
-    const float r = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
-    return mu0e + mue > 0.0f ? r : 0.0f;
+    const int some = mu0e + mue > 0.0f;
+    *mu0e_out = some ? mu0e : 1.0f;   // any positive pair: the law is multiplied by S = 0 there
+    *mue_out = some ? mue : 1.0f;
+    return some ? S : 0.0f;
 }
 
 // Hapke's model with either phase function: c[0] = w/4, c[1] = gamma = sqrt(1 - w), c[2] = B0 (0 if h = 0),
@@ -235,8 +236,52 @@ SL_INLINE float Hapke_value(sl_pho g, float P, __constant const ModelConsts* mc)
     const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
     const float B = Hapke_B(g.tan_half_g, b0, inv_h);
     const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
-    const float rough = Hapke_rough(g, w_over_4, gamma, B, P, chi, tan_t, k1, k2);
+    float mu0e, mue;
+    const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
+    const float rough = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
     return rough_flag != 0.0f ? rough : smooth;
+}
+
+// ---- Hapke's 2002/2012 refinements (the variant hapke_2012) ----------------------------------------------------
+
+// ln x for finite x > 0: x = 2^k m, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) = 2 (s + s^3/3 + ... + s^9/9),
+// s = (m - 1)/(m + 1), |s| <= 0.1716 (first omitted term s^11/11 < 2e-9 of the sum; Abramowitz & Stegun 4.1.27).
+// This file's own, branch-free (PoCL's log is a call the vectoriser cannot widen).
+SL_INLINE float Pho_log(float x) {
+    const int bits = as_int(x);
+    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
+    const int big = m0 > 1.41421356f;
+    const float m = big ? 0.5f * m0 : m0;
+    const float k = (float)((bits >> 23) - 127 + big);
+    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+    const float p = 1.0f + s2 * (1.0f / 3.0f + s2 * (0.2f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f))));
+    return k * 0.693147180559945309f + 2.0f * s * p;
+}
+
+// Hapke's (2002, Icarus 157:523, eq. 13) better H approximation (within 1% of Chandrasekhar's H for all w, x):
+//   H(x) = 1 / (1 - w x [r0 + (1 - 2 r0 x)/2 ln((1 + x)/x)]),  r0 = (1 - gamma)/(1 + gamma), gamma = sqrt(1 - w).
+// x ln((1 + x)/x) -> 0 as x -> 0 (H(0) = 1); below x = 1e-30 the term is taken as 0 (its limit) so that the
+// float quotient (1 + x)/x does not overflow.
+SL_INLINE float Hapke_H2002(float x, float w, float r0) {
+    const float xl = x > 1.0e-30f ? x * Pho_log((1.0f + x) / fmax(x, 1.0e-30f)) : 0.0f;
+    return 1.0f / (1.0f - w * (x * r0 + 0.5f * (1.0f - 2.0f * r0 * x) * xl));
+}
+
+// Coherent-backscatter opposition effect (Hapke 2002, eq. 32; Hapke 2012, eq. 9.43):
+//   B_C(g) = (1 + (1 - exp(-z))/z) / (2 (1 + z)^2),  z = tan(g/2)/h_C;  B_C(0) = 1. inv_hc = 1/h_C (0: none).
+SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
+    const float z = t * inv_hc;
+    const float frac = z > 1.0e-4f ? Pho_one_minus_exp_neg(z) / z : 1.0f - 0.5f * z;   // (1 - e^-z)/z, z -> 0: 1 - z/2
+    return bc0 * (1.0f + frac) / (2.0f * (1.0f + z) * (1.0f + z));
+}
+
+// The porosity-corrected smooth law (Hapke 2008, Icarus 195:918; Hapke 2012, eq. 12.55 without roughness):
+//   pi r = K (w/4) mu0/(mu0 + mu) [P(g) (1 + B_SH(g)) + H(mu0/K) H(mu/K) - 1] (1 + B_CB(g)),
+// H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
+SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
+    const float inv_K = 1.0f / K;
+    const float M = Hapke_H2002(mu0 * inv_K, w, r0) * Hapke_H2002(mu * inv_K, w, r0) - 1.0f;
+    return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
 }
 
 // ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
@@ -283,6 +328,23 @@ SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
     return Pho_visible(g) ? v : 0.0f;
 }
 
+// hapke_2012: Hapke's 2002/2012 refinements - the 2002 H function, porosity K, coherent backscatter - with the
+// 1986 shadow-hiding surge, the 1984 roughness and ISIS's two-term Henyey-Greenstein P(g) (c[9..14] as hapke_hen).
+// c[0] = w/4 (unused: w is c[15]), c[1] = gamma, c[2..8] as hapke_hen, c[15] = w, c[16] = r0, c[17] = K,
+// c[18] = B_C0, c[19] = 1/h_C (0: no coherent backscatter).
+SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
+    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+    const float w = mc->c[15], r0 = mc->c[16], K = mc->c[17], bc0 = mc->c[18], inv_hc = mc->c[19];
+    const float P = Hapke_P_HG2(g.tan_half_g, mc);
+    const float B_SH = Hapke_B(g.tan_half_g, b0, inv_h), B_CB = Hapke_BC(g.tan_half_g, bc0, inv_hc);
+    const float smooth = Hapke2012_smooth(g.mu0, g.mu, w, r0, K, B_SH, B_CB, P);
+    float mu0e, mue;
+    const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
+    const float rough = Hapke2012_smooth(mu0e, mue, w, r0, K, B_SH, B_CB, P) * S;
+    return Pho_visible(g) ? (rough_flag != 0.0f ? rough : smooth) : 0.0f;
+}
+
 // ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------
 #define PHO_CATALOGUE_EVAL(model)                                                                             \
     SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {     \
@@ -295,5 +357,6 @@ PHO_CATALOGUE_EVAL(lunar_lambert_mcewen)
 PHO_CATALOGUE_EVAL(lunar_lambert_mcewen_ratio)
 PHO_CATALOGUE_EVAL(hapke_hen)
 PHO_CATALOGUE_EVAL(hapke_leg)
+PHO_CATALOGUE_EVAL(hapke_2012)
 
 #endif
