@@ -19,6 +19,12 @@ std::string trim(std::string s) {
     return s;
 }
 
+// A header name as written, without surrounding double quotes ("phase" -> phase).
+std::string unquote(std::string s) {
+    if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return s.substr(1, s.size() - 2);
+    return s;
+}
+
 }  // namespace
 
 GeometryTable read_geometry_csv(const std::string& path) {
@@ -32,7 +38,8 @@ GeometryTable read_geometry_csv(const std::string& path) {
         if (!trim(line).empty()) break;
     }
     if (trim(line).empty()) throw Error(path + ": empty file: expected a header row with phase, incidence, emission");
-    for (auto& h : split(line, ',')) t.header.push_back(trim(h));
+    if (line.rfind("\xEF\xBB\xBF", 0) == 0) line = line.substr(3);   // UTF-8 byte-order mark
+    for (auto& h : split(line, ',')) t.header.push_back(unquote(trim(h)));
     std::size_t col[3];
     const char* names[3] = {"phase", "incidence", "emission"};
     t.value_column = t.header.size();

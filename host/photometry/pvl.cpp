@@ -212,7 +212,9 @@ void parse_block(Lexer& lx, Block& b, bool root) {
 
 }  // namespace
 
-Block parse(const std::string& text, const std::string& file) {
+Block parse(const std::string& text0, const std::string& file) {
+    // A UTF-8 byte-order mark some editors write is not part of the PVL text.
+    const std::string text = text0.rfind("\xEF\xBB\xBF", 0) == 0 ? text0.substr(3) : text0;
     Lexer lx(text, file);
     Block root;
     root.name = file;
