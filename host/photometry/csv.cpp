@@ -1,5 +1,6 @@
 #include "photometry/csv.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -53,18 +54,29 @@ GeometryTable read_geometry_csv(const std::string& path) {
     }
     for (std::size_t j = 0; j < t.header.size(); ++j)
         if (pvl::iequals(t.header[j], "value")) t.value_column = j;
+    // The fields are found by scanning for commas and the three angle fields parsed in place (millions of rows:
+    // no per-field strings).
+    const std::size_t need = std::max({col[0], col[1], col[2]});
+    std::vector<std::pair<std::size_t, std::size_t>> spans;   // [begin, end) of each field
     while (std::getline(in, line)) {
         ++lineno;
-        if (trim(line).empty()) continue;
-        std::vector<std::string> f = split(line, ',');
-        for (auto& x : f) x = trim(x);
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.find_first_not_of(" \t") == std::string::npos) continue;
+        spans.clear();
+        std::size_t b = 0;
+        while (true) {
+            const std::size_t e = line.find(',', b);
+            spans.push_back({b, e == std::string::npos ? line.size() : e});
+            if (e == std::string::npos || spans.size() > need) break;
+            b = e + 1;
+        }
         const std::string where = path + ":" + std::to_string(lineno);
         Geometry g;
         double* dst[3] = {&g.phase, &g.incidence, &g.emission};
         for (int c = 0; c < 3; ++c) {
-            if (col[c] >= f.size())
-                throw Error(where + ": the row has " + std::to_string(f.size()) + " fields, no '" + names[c] + "'");
-            const std::string& s = f[col[c]];
+            if (col[c] >= spans.size())
+                throw Error(where + ": the row has " + std::to_string(spans.size()) + " fields, no '" + names[c] + "'");
+            const std::string s = trim(line.substr(spans[col[c]].first, spans[col[c]].second - spans[col[c]].first));
             char* end = nullptr;
             const double v = std::strtod(s.c_str(), &end);
             if (s.empty() || *end != '\0' || !std::isfinite(v))
@@ -73,7 +85,7 @@ GeometryTable read_geometry_csv(const std::string& path) {
         }
         check_geometry(g, where);
         t.geometry.push_back(g);
-        t.rows.push_back(std::move(f));
+        t.rows.push_back(std::move(line));
     }
     return t;
 }
@@ -81,20 +93,28 @@ GeometryTable read_geometry_csv(const std::string& path) {
 void write_values_csv(const std::string& path, const GeometryTable& t, const std::vector<double>& values) {
     std::string out;
     out.reserve(t.rows.size() * 48 + 64);
-    auto emit = [&](const std::vector<std::string>& fields, const std::string& value) {
-        const std::size_t n = std::max(fields.size(), t.value_column + 1);
-        for (std::size_t j = 0; j < n; ++j) {
-            if (j) out += ',';
-            if (j == t.value_column) out += value;
-            else if (j < fields.size()) out += fields[j];
-        }
-        out += '\n';
-    };
-    emit(t.header, "value");
+    // the header, with `value` appended or in place
+    for (std::size_t j = 0; j < std::max(t.header.size(), t.value_column + 1); ++j) {
+        if (j) out += ',';
+        out += j == t.value_column ? std::string("value") : t.header[j];
+    }
+    out += '\n';
     char buf[32];
     for (std::size_t r = 0; r < t.rows.size(); ++r) {
         std::snprintf(buf, sizeof buf, "%.9g", values[r]);
-        emit(t.rows[r], buf);
+        if (t.value_column >= t.header.size()) {   // appended: the line as it was, then the value
+            out += t.rows[r];
+            out += ',';
+            out += buf;
+        } else {   // an existing value column: its field replaced
+            const std::vector<std::string> f = split(t.rows[r], ',');
+            for (std::size_t j = 0; j < std::max(f.size(), t.value_column + 1); ++j) {
+                if (j) out += ',';
+                if (j == t.value_column) out += buf;
+                else if (j < f.size()) out += f[j];
+            }
+        }
+        out += '\n';
     }
     write_text_atomically(path, "table", out);
 }

@@ -11,7 +11,7 @@ namespace shadelab::photometry {
 
 struct GeometryTable {
     std::vector<std::string> header;             // column names as written
-    std::vector<std::vector<std::string>> rows;  // the fields as written
+    std::vector<std::string> rows;               // each data line as written (without its line end)
     std::vector<Geometry> geometry;              // per row
     std::size_t value_column = 0;                // where the value goes (header.size() when appended)
 };
