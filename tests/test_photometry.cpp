@@ -16,6 +16,9 @@
 #include "moon/photometry.hpp"
 #include "photometry/csv.hpp"
 #include "photometry/empirical.hpp"
+#include "photometry/normalize.hpp"
+#include "moon/disc.hpp"
+#include "moon/fit.hpp"
 #include "photometry/isis.hpp"
 #include "photometry/pvl.hpp"
 #include "support.hpp"
@@ -552,4 +555,88 @@ TEST_CASE("photometry empirical: Minnaert, the offset form, and bad controls", "
     } catch (const Error& e) {
         CHECK(std::string(e.what()).find("must be Hapke") != std::string::npos);
     }
+}
+
+// ---- normalisation ---------------------------------------------------------------------------------------
+
+TEST_CASE("photometry normalize: a rendered disc normalised with its own law is constant (albedo), shade redraws it",
+          "[photometry][normalize]") {
+    struct Case {
+        const char* what;
+        std::string pvl;
+        double albedo;
+    };
+    const Case cases[] = {
+        {"HapkeHen (ISIS's test parameters)", kHapkeHen2, 1.0},
+        {"LunarLambert L = 0.3", algorithm("    Name = LunarLambert\n    L = 0.3\n"), 0.4},
+        {"LommelSeeliger", algorithm("    Name = LommelSeeliger\n"), 0.25},
+    };
+    for (const Case& c : cases) {
+        const photometry::Law law = law_of(c.pvl);
+        moon::DiscRenderOptions o;
+        o.width = o.height = 160;
+        o.disc = moon::Disc{80.0, 80.0, 70.0};
+        o.material = law.material;
+        o.material.albedo = glm::dvec3(c.albedo);
+        o.sun = moon::sun_geometry(50.0, 120.0);
+        const Image img = moon::render_disc(test::runtime(), o);
+        std::vector<Geometry> geo;
+        std::vector<double> dn;
+        for (const auto& p : moon::disc_pixels(img, o.disc, o.sun)) {
+            geo.push_back({p.a.g_deg, p.a.i_deg, p.a.e_deg});
+            dn.push_back(p.I);
+        }
+        photometry::NormalizeOptions no;
+        const photometry::Normalized n = photometry::normalize(test::runtime(), law, geo, dn, no);
+        const double want = c.albedo * n.psurf_ref;
+        double worst = 0.0;
+        std::size_t used = 0;
+        for (std::size_t k = 0; k < dn.size(); ++k) {
+            if (!n.valid[k]) continue;
+            ++used;
+            worst = std::max(worst, std::abs(n.value[k] - want) / want);
+        }
+        std::cout << "normalize albedo, " << c.what << ": " << used << " pixels, " << n.nulled
+                  << " beyond thresh; max |value - albedo psurf(ref)| / that " << worst << "\n";
+        INFO(c.what);
+        CHECK(used > dn.size() / 2);
+        CHECK(worst < 2e-5);   // float kernels on both sides (render and normalise)
+        // ISIS's standard conditions: Hapke's reference value without the surge (ZeroB0Standard defaults to TRUE)
+        const double ref_direct = photometry::evaluate_reference(photometry::standard_conditions(law), {30.0, 30.0, 0.0});
+        CHECK(n.psurf_ref == Approx(ref_direct).epsilon(1e-5));
+        // shade mode with albedo = psurf(ref) redraws the law at albedo 1: the rendered image divided by its albedo
+        no.mode = "shade";
+        no.albedo = n.psurf_ref;
+        const photometry::Normalized s = photometry::normalize(test::runtime(), law, geo, dn, no);
+        for (std::size_t k = 0; k < dn.size(); k += 97) CHECK(s.value[k] == Approx(dn[k] / c.albedo).epsilon(2e-5).margin(1e-7));
+    }
+    photometry::NormalizeOptions bad;
+    bad.incref = 90.0;
+    CHECK_THROWS_WITH(photometry::check_normalize_options(bad), Catch::Contains("--incref 90 is out of range: allowed 0 <= incref < 90"));
+    bad = {};
+    bad.mode = "topo";
+    CHECK_THROWS_WITH(photometry::check_normalize_options(bad), Catch::Contains("--mode 'topo' is unknown"));
+}
+
+TEST_CASE("photometry normalize: backplanes of another size or with an angle out of range are named", "[photometry][normalize][errors]") {
+    const auto dir = test::scratch_dir("photometry-backplanes");
+    Image img(8, 6, 4), small(8, 5, 4), bad(8, 6, 4), good(8, 6, 4);
+    for (auto* im : {&img, &small, &bad, &good})
+        for (int y = 0; y < im->height; ++y)
+            for (int x = 0; x < im->width; ++x)
+                for (int c = 0; c < 4; ++c) im->at(x, y, c) = c == 3 ? 1.0f : 30.0f;
+    bad.at(3, 2, 0) = 200.0f;
+    const std::string pi = (dir / "img.exr").string(), ps = (dir / "small.exr").string();
+    const std::string pb = (dir / "bad.exr").string(), pg = (dir / "good.exr").string();
+    write_image(pi, img);
+    write_image(ps, small);
+    write_image(pb, bad);
+    write_image(pg, good);
+    CHECK_THROWS_WITH(photometry::geometry_from_backplanes(img, pi, {pg, ps, pg}),
+                      Catch::Contains("small.exr is 8x5 but") && Catch::Contains("backplanes must have the image's size"));
+    CHECK_THROWS_WITH(photometry::geometry_from_backplanes(img, pi, {pb, pg, pg}),
+                      Catch::Contains("bad.exr pixel (3, 2): phase 200 is out of range: allowed 0 to 180 degrees"));
+    const auto ok = photometry::geometry_from_backplanes(img, pi, {pg, pg, pg});
+    CHECK(ok.geometry.size() == 48);
+    CHECK(ok.geometry[0].incidence == 30.0);
 }

@@ -14,9 +14,13 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "core/atomic_file.hpp"
 #include "photometry/csv.hpp"
+#include "image/image.hpp"
+#include "moon/fit.hpp"
 #include "photometry/empirical.hpp"
+#include "photometry/normalize.hpp"
 #include "photometry/isis.hpp"
 
 namespace shadelab::app {
@@ -122,6 +126,66 @@ void run_empirical(const EmpiricalArgs& a) {
     std::cout << "wrote: " << a.out << "\n";
 }
 
+struct NormalizeArgs {
+    std::string pvl, model, image, out, backplanes, centre;
+    std::vector<std::string> params;
+    double phase = NAN, pa = 0.0, radius = 0.0;
+    photometry::NormalizeOptions o;
+};
+
+void run_normalize(const NormalizeArgs& a) {
+    EvalArgs ea;
+    ea.pvl = a.pvl;
+    ea.model = a.model;
+    ea.params = a.params;
+    const photometry::Law law = law_from_args(ea);
+    for (const auto& w : law.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    photometry::check_normalize_options(a.o);
+    if (a.out.empty()) throw Error("photometry normalize: give the output image with -o OUT.exr");
+    const Image img = read_image(a.image);
+    std::vector<photometry::Geometry> geo;
+    std::vector<double> dn;
+    std::vector<std::pair<int, int>> where;
+    if (!a.backplanes.empty()) {
+        photometry::PixelGeometry pg = photometry::geometry_from_backplanes(img, a.image, split(a.backplanes, ','));
+        geo = std::move(pg.geometry);
+        dn = std::move(pg.dn);
+        where = std::move(pg.xy);
+    } else {
+        if (std::isnan(a.phase))
+            throw Error("photometry normalize: give the geometry as --phase G [--pa P] --radius R [--centre x,y] (a "
+                        "disc) or as --backplanes PHASE,INCIDENCE,EMISSION");
+        if (!(a.radius > 0.0)) throw Error("photometry normalize: --radius (the disc's radius in pixels) is needed with --phase");
+        moon::Disc d{0.5 * img.width, 0.5 * img.height, a.radius};
+        if (!a.centre.empty()) {
+            const glm::dvec3 c = parse_vec3(a.centre + ",0", "--centre");
+            d.cx = c.x;
+            d.cy = c.y;
+        }
+        const moon::SunGeometry sun = moon::sun_geometry(a.phase, a.pa);
+        for (const auto& p : moon::disc_pixels(img, d, sun)) {
+            geo.push_back({p.a.g_deg, p.a.i_deg, p.a.e_deg});
+            dn.push_back(p.I);
+            where.push_back({p.x, p.y});
+        }
+    }
+    Runtime rt;
+    const photometry::Normalized n = photometry::normalize(rt, law, geo, dn, a.o);
+    Image out(img.width, img.height, 4);
+    for (std::size_t k = 0; k < where.size(); ++k) {
+        if (!n.valid[k]) continue;
+        for (int c = 0; c < 3; ++c) out.at(where[k].first, where[k].second, c) = float(n.value[k]);
+        out.at(where[k].first, where[k].second, 3) = 1.0f;
+    }
+    write_image(a.out, out);
+    std::cout << "law: " << law.describe() << "\n"
+              << "mode: " << a.o.mode << ", reference (pharef, incref, emaref) = (" << a.o.pharef << ", " << a.o.incref
+              << ", " << a.o.emaref << ") deg, law there " << n.psurf_ref << "\n"
+              << "pixels: " << where.size() << " normalised, " << n.nulled << " left without a value (thresh "
+              << a.o.thresh << ")\n"
+              << "wrote: " << a.out << "\n";
+}
+
 }  // namespace
 
 void add_photometry_command(CLI::App& app) {
@@ -161,6 +225,28 @@ void add_photometry_command(CLI::App& app) {
     em->add_flag("--offset", b->o.offset, "fit an additive offset too (phoempglobal's IORD); B is then not normalised");
     em->add_option("-o,--out", b->out, "output PVL table");
     em->callback([b] { run_empirical(*b); });
+
+    auto c = std::make_shared<NormalizeArgs>();
+    auto* nm = cmd->add_subcommand("normalize", "Normalise an image to a standard geometry with a photometric law "
+                                                "(ISIS photomet's albedo and shade modes)");
+    nm->add_option("image", c->image, "the image (linear: .exr, .fits, ...)")->required();
+    nm->add_option("--pvl", c->pvl, "the photometric law: ISIS PVL (Object = PhotometricModel)");
+    nm->add_option("--model", c->model, "or a catalogue model by name, with -p");
+    nm->add_option("-p,--param", c->params, "name=value parameter of --model (repeatable)");
+    nm->add_option("--mode", c->o.mode, "albedo | shade")->capture_default_str();
+    nm->add_option("--incref", c->o.incref, "reference incidence, degrees")->capture_default_str();
+    nm->add_option("--emaref", c->o.emaref, "reference emission, degrees")->capture_default_str();
+    nm->add_option("--pharef", c->o.pharef, "reference phase, degrees")->capture_default_str();
+    nm->add_option("--thresh", c->o.thresh, "albedo mode: no value where the law is below 1/thresh of the reference")
+        ->capture_default_str();
+    nm->add_option("--albedo", c->o.albedo, "shade mode: the uniform albedo")->capture_default_str();
+    nm->add_option("--phase", c->phase, "disc geometry: phase angle, degrees");
+    nm->add_option("--pa", c->pa, "disc geometry: position angle of the sun, degrees (docs/moon.md)");
+    nm->add_option("--radius", c->radius, "disc geometry: disc radius, pixels");
+    nm->add_option("--centre,--center", c->centre, "disc geometry: centre x,y in pixels (default: the image centre)");
+    nm->add_option("--backplanes", c->backplanes, "or per-pixel PHASE,INCIDENCE,EMISSION images in degrees");
+    nm->add_option("-o,--out", c->out, "output image (.exr: linear float; alpha 0 where there is no value)");
+    nm->callback([c] { run_normalize(*c); });
 }
 
 }  // namespace shadelab::app

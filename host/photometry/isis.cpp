@@ -251,8 +251,7 @@ Law law_from_pvl(const pvl::Block& root, const std::string& file) {
         if (z->values.size() != 1 || !is_bool_word(z->values[0]))
             throw Error(at(file, z->line) + "ZeroB0Standard = " + (z->values.empty() ? "" : z->values[0]) +
                         " is not allowed: use TRUE, FALSE, YES or NO");
-        law.warnings.push_back(at(file, z->line) + "ZeroB0Standard only matters when normalising to standard "
-                               "conditions; the value evaluated here does not depend on it (nor does ISIS's)");
+        law.zero_b0_standard = pvl::iequals(z->values[0], "TRUE") || pvl::iequals(z->values[0], "YES");
     }
 
     if (spec->model) {
@@ -315,6 +314,14 @@ Law law_from_pvl(const pvl::Block& root, const std::string& file) {
 }
 
 Law law_from_pvl_file(const std::string& path) { return law_from_pvl(pvl::parse_file(path), path); }
+
+Law standard_conditions(const Law& law) {
+    Law s = law;
+    const std::string& m = s.material.model;
+    if (!s.empirical && s.zero_b0_standard && (m == "hapke_hen" || m == "hapke_leg" || m == "hapke_2012"))
+        s.material.params["b0"] = 0.0;
+    return s;
+}
 
 Law law_from_model(const std::string& model, const std::map<std::string, double>& params) {
     Law law;

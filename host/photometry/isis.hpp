@@ -48,6 +48,7 @@ struct Law {
     std::vector<double> phases, params, brightness;   // the empirical tables
     NaturalSpline param_of_phase, brightness_of_phase;
     std::vector<std::string> warnings;                // keywords ISIS reads but that change nothing here, ...
+    bool zero_b0_standard = true;                     // Hapke: B0 = 0 at the standard (reference) conditions
     std::string describe() const;                     // "HapkeHen -> hapke_hen wh=0.52 ..."
 };
 
@@ -60,6 +61,9 @@ const std::vector<std::string>& isis_model_names();
 // lengths or fewer than 3 entries, a phase table not strictly increasing or outside [0, 180].
 Law law_from_pvl(const pvl::Block& root, const std::string& file);
 Law law_from_pvl_file(const std::string& path);
+// The law at ISIS's standard conditions: for Hapke with ZeroB0Standard (ISIS's default) the opposition surge B0
+// set to 0, as ISIS's SetStandardConditions does when it evaluates the reference value of a normalisation.
+Law standard_conditions(const Law& law);
 // A catalogue model by shadelab name with name=value parameters (--model hapke_hen -p wh=0.52).
 Law law_from_model(const std::string& model, const std::map<std::string, double>& params);
 
