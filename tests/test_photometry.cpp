@@ -640,3 +640,31 @@ TEST_CASE("photometry normalize: backplanes of another size or with an angle out
     CHECK(ok.geometry.size() == 48);
     CHECK(ok.geometry[0].incidence == 30.0);
 }
+
+TEST_CASE("round trip: discs rendered with McEwen's L(g) give back L(g) from a Lunar-Lambert fit at each phase",
+          "[photometry][empirical]") {
+    const photometry::Law mc = photometry::law_from_model("lunar_lambert_mcewen", {});
+    for (double g : {0.0, 20.0, 45.0, 70.0, 100.0, 130.0}) {
+        moon::DiscRenderOptions o;
+        o.width = o.height = 140;
+        o.disc = moon::Disc{70.0, 70.0, 62.0};
+        o.material = mc.material;
+        o.material.albedo = glm::dvec3(0.3);
+        o.sun = moon::sun_geometry(g, 30.0);
+        const Image img = moon::render_disc(test::runtime(), o);
+        std::vector<double> inc, ema, val;
+        for (const auto& p : moon::disc_pixels(img, o.disc, o.sun)) {
+            if (p.a.i_deg >= 89.0 || p.a.e_deg >= 89.0) continue;
+            inc.push_back(p.a.i_deg);
+            ema.push_back(p.a.e_deg);
+            val.push_back(p.I);
+        }
+        const photometry::SimpleFit f = photometry::fit_simple_law(2, inc, ema, val, false);
+        const double L = 1.0 - 0.019 * g + 0.000242 * g * g - 0.00000146 * g * g * g;
+        std::cout << "McEwen disc at g = " << g << ": fitted L " << f.param << " (L(g) " << L << "), B " << f.c1
+                  << " (albedo 0.3), rms " << f.rms << ", " << f.samples << " pixels\n";
+        INFO("phase " << g);
+        CHECK(f.param == Approx(L).margin(1e-4));
+        CHECK(f.c1 == Approx(0.3).epsilon(1e-4));
+    }
+}

@@ -186,6 +186,42 @@ void run_normalize(const NormalizeArgs& a) {
               << "wrote: " << a.out << "\n";
 }
 
+struct FitDiscArgs {
+    std::string image, law = "lunar_lambert", centre;
+    double phase = NAN, pa = 0.0, radius = 0.0, incmax = 89.0, emamax = 89.0;
+    bool offset = false;
+};
+
+// Lunar-Lambert L or Minnaert K and the brightness fitted to the pixels of a disc image at its phase, by the fit
+// photometry empirical makes to a Hapke sphere (host/photometry/empirical.hpp).
+void run_fit_disc(const FitDiscArgs& a) {
+    const int law = a.law == "minnaert" ? 1 : (a.law == "lunar_lambert" || a.law == "lunarlambert" ? 2 : 0);
+    if (!law) throw Error("photometry fit-disc: --law '" + a.law + "' is unknown: use lunar_lambert or minnaert");
+    if (std::isnan(a.phase) || !(a.radius > 0.0))
+        throw Error("photometry fit-disc: the disc geometry needs --phase G and --radius R (and --pa, --centre)");
+    const Image img = read_image(a.image);
+    moon::Disc d{0.5 * img.width, 0.5 * img.height, a.radius};
+    if (!a.centre.empty()) {
+        const glm::dvec3 c = parse_vec3(a.centre + ",0", "--centre");
+        d.cx = c.x;
+        d.cy = c.y;
+    }
+    const moon::SunGeometry sun = moon::sun_geometry(a.phase, a.pa);
+    std::vector<double> inc, ema, val;
+    for (const auto& p : moon::disc_pixels(img, d, sun)) {
+        if (p.a.i_deg > a.incmax || p.a.e_deg > a.emamax) continue;
+        inc.push_back(p.a.i_deg);
+        ema.push_back(p.a.e_deg);
+        val.push_back(p.I);
+    }
+    const photometry::SimpleFit f = photometry::fit_simple_law(law, inc, ema, val, a.offset);
+    std::cout << "image: " << a.image << ", phase " << a.phase << " deg, " << f.samples << " pixels with i <= "
+              << a.incmax << ", e <= " << a.emamax << "\n"
+              << (law == 1 ? "K" : "L") << ": " << f.param << "\nB: " << f.c1 << "\n";
+    if (a.offset) std::cout << "offset: " << f.c0 << "\n";
+    std::cout << "rms: " << f.rms << "\n";
+}
+
 }  // namespace
 
 void add_photometry_command(CLI::App& app) {
@@ -247,6 +283,20 @@ void add_photometry_command(CLI::App& app) {
     nm->add_option("--backplanes", c->backplanes, "or per-pixel PHASE,INCIDENCE,EMISSION images in degrees");
     nm->add_option("-o,--out", c->out, "output image (.exr: linear float; alpha 0 where there is no value)");
     nm->callback([c] { run_normalize(*c); });
+
+    auto f = std::make_shared<FitDiscArgs>();
+    auto* fd = cmd->add_subcommand("fit-disc", "Fit Lunar-Lambert L or Minnaert K and the brightness to a disc image at "
+                                               "its phase (phoempglobal's fit, on a user's pixels)");
+    fd->add_option("image", f->image, "the disc image (linear)")->required();
+    fd->add_option("--law", f->law, "lunar_lambert | minnaert")->capture_default_str();
+    fd->add_option("--phase", f->phase, "phase angle, degrees");
+    fd->add_option("--pa", f->pa, "position angle of the sun, degrees (docs/moon.md)");
+    fd->add_option("--radius", f->radius, "disc radius, pixels");
+    fd->add_option("--centre,--center", f->centre, "disc centre x,y in pixels (default: the image centre)");
+    fd->add_option("--incmax", f->incmax, "largest incidence used, degrees")->capture_default_str();
+    fd->add_option("--emamax", f->emamax, "largest emission used, degrees")->capture_default_str();
+    fd->add_flag("--offset", f->offset, "fit an additive offset too");
+    fd->callback([f] { run_fit_disc(*f); });
 }
 
 }  // namespace shadelab::app

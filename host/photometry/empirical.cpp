@@ -130,6 +130,25 @@ double minimise(const PhaseData& d, int law, bool offset) {
 
 }  // namespace
 
+SimpleFit fit_simple_law(int law, const std::vector<double>& inc, const std::vector<double>& ema,
+                         const std::vector<double>& values, bool offset) {
+    if (inc.size() != values.size() || ema.size() != values.size()) throw Error("internal: fit_simple_law sizes");
+    if (values.size() < 3) throw Error("photometry: fewer than 3 samples to fit the law to");
+    PhaseData d;
+    d.inc = inc;
+    d.ema = ema;
+    d.hapke = values;
+    SimpleFit f;
+    f.samples = values.size();
+    f.param = minimise(d, law, offset);
+    const Fit lf = linear_fit(d, law, f.param, offset);
+    if (!lf.ok) throw Error("photometry: the law cannot be fitted to these samples (all zero?)");
+    f.c1 = lf.c1;
+    f.c0 = lf.c0;
+    f.rms = lf.rms;
+    return f;
+}
+
 void check_empirical_options(const EmpiricalOptions& o) {
     auto in = [](double v, double lo, double hi, const char* name) {
         if (!std::isfinite(v) || v < lo || v > hi)

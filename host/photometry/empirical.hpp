@@ -49,6 +49,15 @@ struct EmpiricalTable {
     std::vector<std::string> warnings;   // phases without samples, dropped from the table
 };
 
+// The same fit on given samples (a user's disc image, at one phase): law 1 Minnaert K, 2 Lunar-Lambert L; values
+// fitted as c1 * law_p (or c0 + c1 * law_p with offset), p minimising the rms. Throws when fewer than 3 samples.
+struct SimpleFit {
+    double param = 0.0, c1 = 0.0, c0 = 0.0, rms = 0.0;
+    std::size_t samples = 0;
+};
+SimpleFit fit_simple_law(int law, const std::vector<double>& inc_deg, const std::vector<double>& ema_deg,
+                         const std::vector<double>& values, bool offset);
+
 // `hapke` is a Law of the hapke_hen or hapke_leg model (from a PVL file or by name).
 EmpiricalTable fit_empirical(Runtime& rt, const Law& hapke, const EmpiricalOptions& o);
 
