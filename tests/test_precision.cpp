@@ -99,6 +99,16 @@ const Bound kBounds[] = {
     {"cook_torrance_seed004",        "m=0.02",         7.82e-4, 2e-3,           7.82e-4, 2e-3},
     {"gradient",                     "*",              4.17e-6, 1.2e-5,         4.17e-6, 1.2e-5},
     {"gradient",                     "period=0.0001",  2.00e-2, 6e-2,           3.05e-2, 9e-2},
+    {"lommel_seeliger",              "*",              5.15e-7, 1.5e-6,         5.15e-7, 1.5e-6},
+    {"lunar_lambert",                "*",              5.52e-7, 1.5e-6,         5.52e-7, 1.5e-6},
+    // L < 0: the two terms mu0 (1 - L) and 2 L mu0 / (mu0 + mu) cancel (docs/photometry.md)
+    {"lunar_lambert",                "l=-1",           5.36e-5, 1.5e-4,         5.36e-5, 1.5e-4},
+    {"lunar_lambert_mcewen",         "*",              2.53e-5, 7e-5,           2.53e-5, 7e-5},
+    // R30 / r with r near 0 where McEwen's L(g) < 0
+    {"lunar_lambert_mcewen_ratio",   "*",              2.35e-4, 7e-4,           2.35e-4, 7e-4},
+    {"hapke_hen",                    "*",              4.00e-6, 1.2e-5,         4.00e-6, 1.2e-5},
+    {"hapke_leg",                    "*",              1.07e-5, 3e-5,           1.07e-5, 3e-5},
+    {"hapke_2012",                   "*",              1.85e-6, 6e-6,           1.85e-6, 6e-6},
 };
 // clang-format on
 

@@ -18,6 +18,7 @@ void add_compare_command(CLI::App& app); // host/app/cmd_compare.cpp
 void add_plan_command(CLI::App& app);    // host/app/cmd_plan.cpp
 void add_chart_command(CLI::App& app);   // host/app/cmd_chart.cpp
 void add_view_command(CLI::App& app);    // host/app/cmd_view.cpp
+void add_photometry_command(CLI::App& app);   // host/app/cmd_photometry.cpp
 
 // A model name typed on the command line: throws shadelab::UsageError (exit 2) naming `option`, with the closest
 // catalogue name as a hint, when it is unknown.

@@ -20,6 +20,7 @@ const std::vector<ModelInfo>& model_catalogue() {
         register_oren_nayar_family(v);
         register_cook_torrance_family(v);
         register_gradient_family(v);
+        register_planetary_family(v);
         std::set<std::string> seen;
         for (const auto& m : v)
             if (!seen.insert(m.name).second) throw Error("internal: model '" + m.name + "' registered twice");

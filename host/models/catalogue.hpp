@@ -74,5 +74,6 @@ void register_minnaert_family(std::vector<ModelInfo>& out);
 void register_oren_nayar_family(std::vector<ModelInfo>& out);
 void register_cook_torrance_family(std::vector<ModelInfo>& out);
 void register_gradient_family(std::vector<ModelInfo>& out);
+void register_planetary_family(std::vector<ModelInfo>& out);
 
 }  // namespace shadelab

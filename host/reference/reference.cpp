@@ -19,6 +19,7 @@ const Table& table() {
         add_oren_nayar_references(x);
         add_cook_torrance_references(x);
         add_gradient_references(x);
+        add_planetary_references(x);
         return x;
     }();
     return t;

@@ -51,5 +51,6 @@ void add_minnaert_references(Table& t);
 void add_oren_nayar_references(Table& t);
 void add_cook_torrance_references(Table& t);
 void add_gradient_references(Table& t);
+void add_planetary_references(Table& t);
 
 }  // namespace shadelab::ref

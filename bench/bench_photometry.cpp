@@ -1,0 +1,179 @@
+// bench_photometry: Hapke (HapkeHen with roughness, ISIS's unit-test parameters) evaluations per second on PoCL
+// (kernels/photometry.cl, the `photometry eval` kernel) against a plain 2-thread C++ loop of the same formula in
+// float, and against the single-threaded double reference. Prints figures, asserts nothing about speed.
+//   bench_photometry [--n N] [--smoke]
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_util.hpp"
+#include "cl/runtime.hpp"
+#include "models/catalogue.hpp"
+#include "photometry/isis.hpp"
+#include "reference/planetary_ref.hpp"
+
+using namespace shadelab;
+using clock_type = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Rows {
+    std::vector<float> mu0, mu, si, se, cg, tg, tp;
+    std::vector<photometry::Geometry> deg;
+};
+
+// Consistent geometries: cos i, cos e uniform in (0, 1], azimuth uniform in [0, 180].
+Rows make_rows(std::size_t n) {
+    std::mt19937_64 gen(1);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Rows r;
+    for (auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp}) v->resize(n);
+    r.deg.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const double c0 = 1.0 - u(gen), c1 = 1.0 - u(gen), psi = kPi * u(gen);
+        const double s0 = std::sqrt(1 - c0 * c0), s1 = std::sqrt(1 - c1 * c1);
+        const double cg = std::clamp(c0 * c1 + s0 * s1 * std::cos(psi), -1.0, 1.0), g = std::acos(cg);
+        r.mu0[k] = float(c0);
+        r.mu[k] = float(c1);
+        r.si[k] = float(s0);
+        r.se[k] = float(s1);
+        r.cg[k] = float(cg);
+        r.tg[k] = float(std::tan(0.5 * g));
+        r.tp[k] = float(std::tan(0.5 * psi));
+        r.deg[k] = {g * 180 / kPi, std::acos(c0) * 180 / kPi, std::acos(c1) * 180 / kPi};
+    }
+    return r;
+}
+
+// The C++ loop a user would write from Hapke (1981, 1984, 1986) in float, std:: functions, two lobes of HG.
+struct HapkeParams {
+    float w, b0, h, theta_deg, b, c;
+};
+
+float hapke_cpp(const HapkeParams& p, float mu0, float mu, float si, float se, float cg, float tg, float tp) {
+    if (!(mu0 > 0 && mu > 0)) return 0.0f;
+    const float pi = 3.14159265f, gamma = std::sqrt(1 - p.w);
+    auto H = [&](float x) { return (1 + 2 * x) / (1 + 2 * x * gamma); };
+    const float B = p.h > 0 ? p.b0 / (1 + tg / p.h) : 0.0f;
+    const float b2 = p.b * p.b;
+    const float P = (1 - p.c) * (1 - b2) / std::pow(1 + b2 + 2 * p.b * cg, 1.5f) +
+                    p.c * (1 - b2) / std::pow(1 + b2 - 2 * p.b * cg, 1.5f);
+    const float t = p.theta_deg * pi / 180, tan_t = std::tan(t), cot_t = 1 / tan_t;
+    const float chi = 1 / std::sqrt(1 + pi * tan_t * tan_t);
+    const float cot_i = mu0 / std::max(si, 1e-10f), cot_e = mu / std::max(se, 1e-10f);
+    auto E1 = [&](float x) { return std::exp(-2 / pi * cot_t * x); };
+    auto E2 = [&](float x) { return std::exp(-1 / pi * cot_t * cot_t * x * x); };
+    const float psi = 2 * std::atan(tp), cpsi = std::cos(psi), s2 = std::sin(psi / 2) * std::sin(psi / 2);
+    const float f = std::exp(-2 * tp);
+    const float eta_i = chi * (mu0 + si * tan_t * E2(cot_i) / (2 - E1(cot_i)));
+    const float eta_e = chi * (mu + se * tan_t * E2(cot_e) / (2 - E1(cot_e)));
+    float mu0e, mue, q;
+    if (mu0 >= mu) {
+        const float den = 2 - E1(cot_e) - psi / pi * E1(cot_i);
+        mu0e = chi * (mu0 + si * tan_t * (cpsi * E2(cot_e) + s2 * E2(cot_i)) / den);
+        mue = chi * (mu + se * tan_t * (E2(cot_e) - s2 * E2(cot_i)) / den);
+        q = chi * mu0 / eta_i;
+    } else {
+        const float den = 2 - E1(cot_i) - psi / pi * E1(cot_e);
+        mu0e = chi * (mu0 + si * tan_t * (E2(cot_i) - s2 * E2(cot_e)) / den);
+        mue = chi * (mu + se * tan_t * (cpsi * E2(cot_i) + s2 * E2(cot_e)) / den);
+        q = chi * mu / eta_e;
+    }
+    const float S = mue / eta_e * mu0 / eta_i * chi / (1 - f + f * q);
+    return p.w / 4 * mu0e / (mu0e + mue) * ((1 + B) * P - 1 + H(mu0e) * H(mue)) * S;
+}
+
+double seconds(clock_type::time_point a, clock_type::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::size_t n = std::size_t(1) << 24;
+    for (int a = 1; a < argc; ++a) {
+        if (!std::strcmp(argv[a], "--smoke")) n = 1 << 12;
+        else if (!std::strcmp(argv[a], "--n") && a + 1 < argc) n = std::stoul(argv[++a]);
+    }
+    const HapkeParams hp{0.52f, 1.0f, 1.0f, 30.0f, 0.213f, 1.0f};
+    const photometry::Law law = photometry::law_from_model(
+        "hapke_hen", {{"wh", 0.52}, {"b0", 1.0}, {"hh", 1.0}, {"theta", 30.0}, {"hg1", 0.213}, {"hg2", 1.0}});
+    n = (n + 255) / 256 * 256;
+    const Rows r = make_rows(n);
+    std::printf("bench_photometry: Hapke (HapkeHen, theta-bar 30, ISIS's unit-test parameters), %zu geometries\n"
+                "cpu: %s\n",
+                n, bench::cpu_name().c_str());
+
+    // PoCL: the photometry kernel on device-resident arrays (build and upload excluded), best of 5.
+    Runtime rt;
+    const ModelInfo& info = find_model("hapke_hen");
+    cl::Program prog = rt.build("photometry.cl", {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
+                                                  "SL_PHO_EVAL=hapke_hen_pho"});
+    const auto consts = pack_material(law.material);
+    std::vector<cl::Buffer> in;
+    for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})
+        in.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
+                        const_cast<float*>(v->data()));
+    cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Buffer bc(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
+                  const_cast<ModelConsts*>(consts.data()));
+    cl::Kernel k(prog, "eval_photometric");
+    for (cl_uint i = 0; i < 7; ++i) k.setArg(i, in[i]);
+    k.setArg(7, out);
+    k.setArg(8, cl_uint(n));
+    k.setArg(9, bc);
+    const std::size_t global = n;   // make_rows pads to a multiple of 256 (the kernel has no bounds check)
+    double best_cl = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        const auto t0 = clock_type::now();
+        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(256));
+        rt.queue().finish();
+        best_cl = std::min(best_cl, seconds(t0, clock_type::now()));
+    }
+    std::vector<float> k_out(n);
+    rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), k_out.data());
+
+    // The C++ loop on 2 threads, best of 5.
+    std::vector<float> c_out(n);
+    auto run = [&](std::size_t a, std::size_t b) {
+        for (std::size_t j = a; j < b; ++j)
+            c_out[j] = hapke_cpp(hp, r.mu0[j], r.mu[j], r.si[j], r.se[j], r.cg[j], r.tg[j], r.tp[j]);
+    };
+    double best_cpp = 1e30;
+    for (int rep = 0; rep < 5; ++rep) {
+        const auto t0 = clock_type::now();
+        std::thread other(run, n / 2, n);
+        run(0, n / 2);
+        other.join();
+        best_cpp = std::min(best_cpp, seconds(t0, clock_type::now()));
+    }
+
+    // The double reference, one thread, on the first min(n, 1M) rows.
+    const std::size_t nr = std::min<std::size_t>(n, 1000000);
+    double sink = 0.0;
+    const auto t0 = clock_type::now();
+    for (std::size_t j = 0; j < nr; ++j)
+        sink += photometry::evaluate_reference(law, r.deg[j]);
+    const double t_ref = seconds(t0, clock_type::now());
+
+    double max_rel_k = 0.0, max_rel_c = 0.0;
+    for (std::size_t j = 0; j < std::min<std::size_t>(nr, 20000); ++j) {
+        const double ref = photometry::evaluate_reference(law, r.deg[j]);
+        if (ref < 1e-4) continue;
+        max_rel_k = std::max(max_rel_k, std::abs(k_out[j] - ref) / ref);
+        max_rel_c = std::max(max_rel_c, std::abs(c_out[j] - ref) / ref);
+    }
+    const double cl_rate = double(n) / best_cl, cpp_rate = double(n) / best_cpp, ref_rate = double(nr) / t_ref;
+    std::printf("%-44s %12s %10s %14s\n", "", "evals/s", "vs C++", "max rel (20k)");
+    std::printf("%-44s %12.3g %10.2f %14.2g\n", "PoCL kernel (float)", cl_rate, cl_rate / cpp_rate, max_rel_k);
+    std::printf("%-44s %12.3g %10.2f %14.2g\n", "C++ loop, float, 2 threads (-O3 -march=native)", cpp_rate, 1.0, max_rel_c);
+    std::printf("%-44s %12.3g %10.2f %14s\n", "double reference, 1 thread", ref_rate, ref_rate / cpp_rate, "-");
+    std::printf("PoCL vs double reference: %.1fx   (checksum %.6g)\n", cl_rate / ref_rate, sink);
+    return 0;
+}

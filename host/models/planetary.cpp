@@ -1,0 +1,190 @@
+// The planetary family (kernels/models/planetary.cl, docs/photometry.md): ISIS3's photometric laws of airless
+// bodies. Parameter names are shadelab's lower-case forms of ISIS's keywords (Wh -> wh, Hg1 -> hg1, ...);
+// host/photometry/isis_pvl.cpp maps ISIS's PVL files onto them. Ranges are ISIS's where ISIS bounds a value, and
+// stated bounds where it does not (a fit needs finite ones): docs/photometry.md lists both.
+#include <algorithm>
+#include <cmath>
+
+#include "models/catalogue.hpp"
+
+namespace shadelab {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
+    ModelInfo m;
+    m.name = name;
+    m.family = "planetary";
+    m.summary = summary;
+    m.source = source;
+    m.header = "models/planetary.cl";
+    m.eval = eval;
+    return m;
+}
+
+// McEwen's lunar L(g) cubic (McEwen 1996; ISIS's LunarLambertMcEwen hard-codes these three).
+const std::vector<ParamSpec> kMcEwenParams = {
+    {"m1", -0.019, -0.05, 0.05, "McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3, g in degrees: linear coefficient"},
+    {"m2", 0.000242, -0.001, 0.001, "quadratic coefficient of L(g)"},
+    {"m3", -0.00000146, -1e-5, 1e-5, "cubic coefficient of L(g)"},
+};
+
+double mcewen_L(const std::vector<double>& p, double g_deg) {
+    return 1.0 + p[0] * g_deg + p[1] * g_deg * g_deg + p[2] * g_deg * g_deg * g_deg;
+}
+
+// The parameters both Hapke variants share (ISIS's keywords Wh, B0, Hh, Theta; its defaults).
+std::vector<ParamSpec> hapke_common() {
+    return {
+        {"wh", 0.5, 1e-6, 1.0, "single-scattering albedo w (ISIS Wh; ISIS requires 0 < w <= 1)"},
+        {"b0", 0.0, 0.0, 10.0, "opposition surge amplitude B0 (ISIS B0 >= 0; 0 = no surge)"},
+        {"hh", 0.0, 0.0, 10.0, "opposition surge width h (ISIS Hh >= 0; 0 = no surge, as ISIS)"},
+        {"theta", 0.0, 0.0, 90.0, "macroscopic roughness theta-bar, degrees (ISIS Theta; 0 = smooth)"},
+    };
+}
+
+// c[0..8]: w/4, gamma, B0 (0 when h = 0), 1/h (0 when h = 0), rough flag, chi, tan(theta), (2/pi) cot(theta),
+// (1/pi) cot^2(theta). Computed in double; the cot terms capped (kernel: Hapke_E1/E2 say why).
+void pack_hapke_common(const std::vector<double>& p, float* c) {
+    const double w = p[0], b0 = p[1], h = p[2], theta = p[3] * kPi / 180.0;
+    c[0] = float(w / 4.0);
+    c[1] = float(std::sqrt(1.0 - w));
+    c[2] = h > 0.0 ? float(b0) : 0.0f;
+    c[3] = h > 0.0 ? float(1.0 / h) : 0.0f;
+    c[4] = theta > 0.0 ? 1.0f : 0.0f;
+    if (theta > 0.0) {
+        const double tan_t = std::tan(theta), cot_t = 1.0 / tan_t;
+        c[5] = float(1.0 / std::sqrt(1.0 + kPi * tan_t * tan_t));
+        c[6] = float(tan_t);
+        c[7] = float(std::min(2.0 / kPi * cot_t, 1e15));
+        c[8] = float(std::min(cot_t * cot_t / kPi, 1e30));
+    }
+}
+
+// Henyey-Greenstein constants c[9..14] (kernel: Hapke_P_HG2); b = Hg1, cw = Hg2.
+void pack_hg2(double b, double cw, float* c) {
+    const double s = std::abs(b);
+    c[9] = float((1.0 - s) * (1.0 - s));
+    c[10] = float(2.0 * s);
+    c[11] = b >= 0.0 ? 1.0f : 0.0f;
+    c[12] = float(1.0 - b * b);
+    c[13] = float(cw);
+    c[14] = float(1.0 - cw);
+}
+
+}  // namespace
+
+void register_planetary_family(std::vector<ModelInfo>& out) {
+    {
+        ModelInfo m = base("lommel_seeliger", "Lommel-Seeliger, ISIS's normalisation: albedo * 2 NoL / (NoL + NoV)",
+                           "Seeliger (1888); ISIS3 LommelSeeliger photometric model", "lommel_seeliger_eval");
+        m.reciprocal = true;   // f_r = 2 albedo / (pi (NoL + NoV))
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("lunar_lambert", "Lunar-Lambert: albedo * NoL ((1 - L) + 2 L / (NoL + NoV))",
+                           "McEwen (1991) Icarus 92:298; ISIS3 LunarLambert photometric model", "lunar_lambert_eval");
+        m.params = {{"l", 1.0, -1.0, 2.0,
+                     "limb-darkening weight L (ISIS L): 0 Lambert, 1 Lommel-Seeliger; ISIS sets no bounds"}};
+        m.pack = [](const std::vector<double>& p, float* c) { c[0] = float(p[0]); };
+        m.reciprocal = true;   // f_r = albedo/pi ((1 - L) + 2L / (NoL + NoV)): symmetric
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("lunar_lambert_mcewen",
+                           "Lunar-Lambert with McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3 (g in degrees)",
+                           "McEwen (1996) LPSC 27:841 (lunar L(g)); ISIS3 LunarLambertMcEwen", "lunar_lambert_mcewen_eval");
+        m.params = kMcEwenParams;
+        m.pack = [](const std::vector<double>& p, float* c) {
+            for (int k = 0; k < 3; ++k) c[k] = float(p[std::size_t(k)]);
+        };
+        m.reciprocal = true;   // L depends on g only, which is symmetric in L and V
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("lunar_lambert_mcewen_ratio",
+                           "ISIS LunarLambertMcEwen's value: R30 / r(g, i, e), r Lunar-Lambert with McEwen's L(g)",
+                           "McEwen (1996) LPSC 27:841; ISIS3 LunarLambertMcEwen (the normalising form it returns)",
+                           "lunar_lambert_mcewen_ratio_eval");
+        m.params = kMcEwenParams;
+        m.pack = [](const std::vector<double>& p, float* c) {
+            for (int k = 0; k < 3; ++k) c[k] = float(p[std::size_t(k)]);
+            // R30 = r at the standard geometry g = 30, i = 30, e = 0 (mu0 = cos 30, mu = 1), ISIS's choice
+            const double L30 = mcewen_L(p, 30.0), c30 = std::cos(30.0 * kPi / 180.0);
+            c[3] = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
+            c[4] = 1e-3f;   // floor of r (kernel comment)
+        };
+        m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("hapke_hen",
+                           "Hapke 1981/84/86 with two-term Henyey-Greenstein P(g), opposition B(g), roughness theta",
+                           "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeHen",
+                           "hapke_hen_eval");
+        m.params = hapke_common();
+        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999,
+                            "Henyey-Greenstein asymmetry b (ISIS Hg1, -1 < b < 1): lobe 1 (1 + b^2 + 2b cos g)"});
+        m.params.push_back({"hg2", 0.0, 0.0, 1.0,
+                            "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});
+        m.pack = [](const std::vector<double>& p, float* c) {
+            pack_hapke_common(p, c);
+            pack_hg2(p[4], p[5], c);
+        };
+        m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
+        m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("hapke_leg", "Hapke 1981/84/86 with Legendre P(g) = 1 + b cos g + c (3 cos^2 g - 1)/2",
+                           "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeLeg",
+                           "hapke_leg_eval");
+        m.params = hapke_common();
+        m.params.push_back({"bh", 0.0, -1.0, 1.0, "Legendre coefficient b of cos g (ISIS Bh, -1 <= b <= 1)"});
+        m.params.push_back({"ch", 0.0, -1.0, 1.0, "Legendre coefficient c of P2(cos g) (ISIS Ch, -1 <= c <= 1)"});
+        m.pack = [](const std::vector<double>& p, float* c) {
+            pack_hapke_common(p, c);
+            c[9] = float(p[4]);
+            c[10] = float(p[5]);
+        };
+        m.reciprocal = true;
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+    {
+        ModelInfo m = base("hapke_2012",
+                           "Hapke 2002/2012: better H function, porosity K, coherent backscatter; HG2 P(g), roughness",
+                           "Hapke (2002) Icarus 157:523, (2008) Icarus 195:918, (2012) Theory of Reflectance and "
+                           "Emittance Spectroscopy, eq. 12.55",
+                           "hapke_2012_eval");
+        m.params = hapke_common();
+        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999, "Henyey-Greenstein asymmetry b, as hapke_hen"});
+        m.params.push_back({"hg2", 0.0, 0.0, 1.0, "weight of the second Henyey-Greenstein lobe, as hapke_hen"});
+        m.params.push_back({"phi", 0.0, 0.0, 0.75,
+                            "filling factor phi (porosity 1 - phi): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)); 0: K = 1"});
+        m.params.push_back({"bc0", 0.0, 0.0, 10.0, "coherent-backscatter amplitude B_C0 (0: none)"});
+        m.params.push_back({"hc", 0.0, 0.0, 10.0, "coherent-backscatter width h_C (0: none)"});
+        m.pack = [](const std::vector<double>& p, float* c) {
+            pack_hapke_common(p, c);
+            pack_hg2(p[4], p[5], c);
+            const double w = p[0], gamma = std::sqrt(1.0 - w), phi = p[6], bc0 = p[7], hc = p[8];
+            const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
+            c[15] = float(w);
+            c[16] = float((1.0 - gamma) / (1.0 + gamma));
+            c[17] = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
+            c[18] = hc > 0.0 ? float(bc0) : 0.0f;
+            c[19] = hc > 0.0 ? float(1.0 / hc) : 0.0f;
+        };
+        m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
+        m.energy_conserving = false;
+        out.push_back(m);
+    }
+}
+
+}  // namespace shadelab

@@ -1,0 +1,83 @@
+// ISIS3's photometric models by their ISIS names, read from ISIS's own PVL parameter files, and evaluated at
+// (phase, incidence, emission) in degrees - on PoCL (kernels/photometry.cl) or with the double references.
+//
+// ISIS name               shadelab model                 keywords (ISIS defaults)
+// Lambert                 lambert                        -
+// LommelSeeliger          lommel_seeliger                -
+// LunarLambert            lunar_lambert                  L (1)
+// LunarLambertMcEwen      lunar_lambert_mcewen_ratio     - (McEwen's M1..M3 are fixed in ISIS)
+// Minnaert                minnaert_1941                  K (1)
+// HapkeHen                hapke_hen                      Wh (0.5) B0 (0) Hh (0) Theta (0) Hg1 (0) Hg2 (0) ZeroB0Standard
+// HapkeLeg                hapke_leg                      Wh (0.5) B0 (0) Hh (0) Theta (0) Bh (0) Ch (0) ZeroB0Standard
+// MinnaertEmpirical       tables K(g), B(g)              PhaseList KList PhaseCurveList (no defaults)
+// LunarLambertEmpirical   tables L(g), B(g)              PhaseList LList PhaseCurveList (no defaults)
+// docs/photometry.md has the formulas and every difference from ISIS.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cl/runtime.hpp"
+#include "models/material.hpp"
+#include "photometry/pvl.hpp"
+#include "shade/shader.hpp"
+
+namespace shadelab::photometry {
+
+// ISIS's interpolation of its empirical tables (NumericalApproximation CubicClamped with both end derivatives
+// 1e30, which is Numerical Recipes' signal for a natural end): the natural cubic spline through the points
+// (second derivative 0 at both ends). Beyond the table the end interval's cubic is continued (ISIS evaluates
+// with its Extrapolate option). x strictly increasing, at least 2 points.
+class NaturalSpline {
+public:
+    NaturalSpline() = default;
+    NaturalSpline(std::vector<double> x, std::vector<double> y);
+    double operator()(double x) const;
+    bool empty() const { return x_.empty(); }
+
+private:
+    std::vector<double> x_, y_, y2_;
+};
+
+// A photometric law as a PVL file or the command line describes it.
+struct Law {
+    std::string isis_name;      // "HapkeHen", or "" for a catalogue model given by name
+    std::string source;         // the PVL file, for messages
+    Material material;          // the catalogue model with albedo 1 (not used by the empirical laws)
+    int empirical = 0;          // 0: a catalogue model; 1: MinnaertEmpirical; 2: LunarLambertEmpirical
+    std::vector<double> phases, params, brightness;   // the empirical tables
+    NaturalSpline param_of_phase, brightness_of_phase;
+    std::vector<std::string> warnings;                // keywords ISIS reads but that change nothing here, ...
+    bool zero_b0_standard = true;                     // Hapke: B0 = 0 at the standard (reference) conditions
+    std::string describe() const;                     // "HapkeHen -> hapke_hen wh=0.52 ..."
+};
+
+// The ISIS names this reader knows.
+const std::vector<std::string>& isis_model_names();
+
+// From the Algorithm group of the PhotometricModel object. Throws shadelab::Error, one line naming the file,
+// the line, the keyword and its allowed range, for: no PhotometricModel object or Algorithm group, no Name, an
+// unknown model, a value that is not a number, a value out of range, a missing table, tables of different
+// lengths or fewer than 3 entries, a phase table not strictly increasing or outside [0, 180].
+Law law_from_pvl(const pvl::Block& root, const std::string& file);
+Law law_from_pvl_file(const std::string& path);
+// The law at ISIS's standard conditions: for Hapke with ZeroB0Standard (ISIS's default) the opposition surge B0
+// set to 0, as ISIS's SetStandardConditions does when it evaluates the reference value of a normalisation.
+Law standard_conditions(const Law& law);
+// A catalogue model by shadelab name with name=value parameters (--model hapke_hen -p wh=0.52).
+Law law_from_model(const std::string& model, const std::map<std::string, double>& params);
+
+struct Geometry {
+    double phase = 0.0, incidence = 0.0, emission = 0.0;   // degrees
+};
+// Each angle finite and in [0, 180] degrees; throws "<where>: phase 181 is out of range: allowed 0 to 180 degrees".
+void check_geometry(const Geometry& g, const std::string& where);
+
+// The law at every row, on the OpenCL device (float). Rows are checked first (check_geometry). Non-finite values
+// (only from invalid input) are written as 0, except with `raw` (the tests: so that they can be counted).
+std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows,
+                             Precision precision = Precision::Precise, bool raw = false);
+// The law at one geometry with the double-precision references (host/reference/).
+double evaluate_reference(const Law& law, const Geometry& g);
+
+}  // namespace shadelab::photometry

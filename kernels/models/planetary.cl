@@ -1,0 +1,362 @@
+// Planetary photometry: the disc-resolved laws of airless bodies as USGS ISIS3 defines them (its photometric
+// models Lommel-Seeliger, Lunar-Lambert, McEwen's Lunar-Lambert, Hapke with Henyey-Greenstein or Legendre
+// phase functions), written from the papers. docs/photometry.md has the formulas, the parameters in ISIS's
+// names and shadelab's, the measured kernel-vs-reference errors and every difference from ISIS.
+//
+// Value convention (docs/notation.md): value = pi f_r NoL, a white Lambert surface lit head-on gives 1. That is
+// the radiance factor I/F for unit solar flux, which is exactly what ISIS's photometric models return with
+// albedo 1 (Lambert cos i; Hapke pi times Hapke's bidirectional reflectance r). `albedo` multiplies the value
+// per channel; leave it at 1 for ISIS's numbers.
+//
+// Every model is written twice over the same terms: `<model>_pho(sl_pho g, consts)`, the law in photometric
+// quantities (mu0, mu, the sines, the phase and the azimuth), and `<model>_eval(N, L, V, P, consts)`, the
+// catalogue's entry point, which forms those quantities from the vectors. kernels/photometry.cl calls the
+// `_pho` form straight from (phase, incidence, emission) triples, which need not be a consistent geometry
+// (ISIS's own unit tests use phase > incidence + emission; the laws are defined on the three angles).
+//
+// Trigonometry: atan and exp are this file's own float polynomials (Pho_atan, Pho_exp), branch-free so that
+// PoCL's loop vectoriser keeps 8 evaluations per instruction (its built-in exp/atan are calls it cannot widen:
+// docs/precision.md). They can be switched to common.cl's vectorisable functions once those exist.
+#ifndef SHADELAB_MODEL_PLANETARY_CL
+#define SHADELAB_MODEL_PLANETARY_CL
+#include "common.cl"
+
+#define PHO_PI 3.14159265358979323846f
+
+// ---- photometric geometry -----------------------------------------------------------------------------
+// mu0 = cos i, mu = cos e, sin i, sin e, cos g, tan(g/2) and tan(psi/2), psi the azimuth between the planes of
+// incidence and emission (0 when either sine is 0, as ISIS). Half-angle tangents rather than cosines: they keep
+// their digits at 0 and 180 degrees, where a float cosine within 6e-8 of +-1 leaves the angle uncertain by 3.5e-4
+// rad (at theta-bar = 89 deg that moves Hapke's S(i, e, psi) by several percent near psi = 0).
+// Padded past 16 bytes (common.cl says why).
+typedef struct {
+    float mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, pad_[2];
+} sl_pho;
+
+// The largest tan(g/2) used: at g = 180 deg tan is infinite, and 0 * inf (a zero 1/h) would be NaN.
+#define PHO_TAN_MAX 1.0e18f
+
+// From unit vectors. sin i = |N x L| (no cancellation near i = 0, where sqrt(1 - NoL^2) keeps no digit);
+// tan(g/2) = |L - V| / |L + V| (exact for unit vectors, accurate at g -> 0 where acos(LoV) is not: float LoV
+// is within 6e-8 of 1 for g < 3.5e-4 rad); tan(psi/2) = |u - v| / |u + v| for the unit directions u, v of N x L
+// and N x V, formed as |a |b| - b |a|| / |a |b| + b |a|| with a = N x L, b = N x V (no normalisation, no
+// cancellation).
+SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
+    sl_pho g;
+    const sl_v3 nl = sl_cross(N, L), nv = sl_cross(N, V);
+    g.mu0 = sl_dot(N, L);
+    g.mu = sl_dot(N, V);
+    g.sin_i = sl_length(nl);
+    g.sin_e = sl_length(nv);
+    g.cos_g = sl_dot(L, V);
+    const sl_v3 d = sl_sub(L, V), s = sl_add(L, V);
+    g.tan_half_g = fmin(sqrt(sl_dot(d, d) / sl_dot(s, s)), PHO_TAN_MAX);   // d/0 = inf, clamped (g = 180)
+    const sl_v3 pd = sl_sub(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const sl_v3 ps = sl_add(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const float t_psi = fmin(sqrt(sl_dot(pd, pd) / sl_dot(ps, ps)), PHO_TAN_MAX);
+    g.tan_half_psi = g.sin_i * g.sin_e > 0.0f ? t_psi : 0.0f;   // no azimuth along N: psi = 0 (ISIS)
+    return g;
+}
+
+// The surface is lit and seen: the laws are defined for mu0 > 0 and mu > 0 only, and return 0 elsewhere.
+SL_INLINE int Pho_visible(sl_pho g) { return g.mu0 > 0.0f && g.mu > 0.0f; }
+
+// ---- this file's vectorisable elementary functions -------------------------------------------------------
+
+// atan(x) for x >= 0 (inf included). Range reduction to |z| <= tan(pi/8) (Cody & Waite; Cephes atanf):
+//   x > tan(3pi/8): atan x = pi/2 + atan(-1/x);  x > tan(pi/8): atan x = pi/4 + atan((x - 1)/(x + 1)),
+// then atan z = z + z^3 P(z^2) with Cephes' minimax coefficients (relative error ~1e-7 on [0, 0.4142]).
+SL_INLINE float Pho_atan(float x) {
+    const int big = x > 2.414213562373095f, mid = x > 0.4142135623730950f;
+    const float z = big ? -1.0f / x : (mid ? (x - 1.0f) / (x + 1.0f) : x);
+    const float y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
+    const float z2 = z * z;
+    const float p = ((8.05374449538e-2f * z2 - 1.38776856032e-1f) * z2 + 1.99777106478e-1f) * z2 - 3.33329491539e-1f;
+    return y0 + (p * z2 * z + z);
+}
+
+// exp(x) for x <= 0 (-inf included; the laws only take exponentials of non-positive numbers): x = (k + f) ln 2,
+// k = rint(x / ln 2) by the 1.5 * 2^23 shift, |f| <= 1/2, e^(f ln 2) by its Taylor series to the 7th power
+// (remainder < 6e-9 relative), times 2^k built in the exponent field. Below -87 (under the float range) 0.
+SL_INLINE float Pho_exp(float x) {
+    const float t = fmax(x, -126.0f) * 1.44269504088896341f;   // x / ln 2
+    const float shifted = t + 12582912.0f, k = shifted - 12582912.0f;
+    const float g = (t - k) * 0.693147180559945309f, g2 = g * g, g4 = g2 * g2;
+    const float p = fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
+                    g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
+    const float r = p * as_float(((int)k + 127) << 23);
+    return x < -87.0f ? 0.0f : r;
+}
+
+// The phase angle g in degrees, 2 atan(tan(g/2)) (well conditioned at 0 and 180).
+SL_INLINE float Pho_phase_deg(sl_pho g) { return 2.0f * (180.0f / PHO_PI) * Pho_atan(g.tan_half_g); }
+
+// 1 + cos g and 1 - cos g from t = tan(g/2): 2/(1 + t^2) and 2/(1 + 1/t^2), each without the cancellation of
+// 1 +- cos g near g = 180 / g = 0 (t = 0 gives 1/t^2 = inf and so 0; t = 1e18 gives 0 and 2).
+SL_INLINE float Pho_one_plus_cos_g(float t) { return 2.0f / (1.0f + t * t); }
+SL_INLINE float Pho_one_minus_cos_g(float t) { return 2.0f / (1.0f + 1.0f / (t * t)); }
+
+// ---- the simple laws ------------------------------------------------------------------------------------
+
+// Lommel-Seeliger (Seeliger 1888; ISIS's LommelSeeliger): value = 2 mu0 / (mu0 + mu), 1 head-on.
+SL_INLINE float Pho_LommelSeeliger(float mu0, float mu) { return 2.0f * mu0 / (mu0 + mu); }
+
+// Lunar-Lambert (McEwen 1991, Icarus 92:298; ISIS's LunarLambert): value = mu0 ((1 - L) + 2 L / (mu0 + mu)):
+// L = 0 Lambert, L = 1 Lommel-Seeliger (normalised to 1 head-on).
+SL_INLINE float Pho_LunarLambert(float mu0, float mu, float L) { return mu0 * ((1.0f - L) + 2.0f * L / (mu0 + mu)); }
+
+// McEwen's L(g) (McEwen 1996, LPSC 27:841, the lunar fit ISIS's LunarLambertMcEwen uses): a cubic in the phase
+// angle in degrees, L(g) = 1 + M1 g + M2 g^2 + M3 g^3.
+SL_INLINE float Pho_McEwen_L(float g_deg, float m1, float m2, float m3) {
+    return 1.0f + g_deg * (m1 + g_deg * (m2 + g_deg * m3));
+}
+
+// Minnaert's law with each cosine's power held below eps (the guard of kernels/models/minnaert.cl, applied here
+// to the empirical K(g) law, whose K may be < 1): mu0 (mu0 mu)^(K-1). eps = 1e-3 for K < 1, else no guard.
+SL_INLINE float Pho_Minnaert(float mu0, float mu, float k) {
+    const float eps = k < 1.0f ? 1.0e-3f : 0.0f;
+    const float taper = (mu0 < eps ? mu0 / eps : 1.0f) * (mu < eps ? mu / eps : 1.0f);
+    return mu0 * pow(fmax(mu0, eps) * fmax(mu, eps), k - 1.0f) * taper;
+}
+
+// ---- Hapke's terms (Hapke 1981 JGR 86:3039; 1984 Icarus 59:41; 1986 Icarus 67:264; Hapke 1993, ch. 8-12) ----
+
+// Hapke's (1981) approximation to Chandrasekhar's H function, H(x) = (1 + 2x) / (1 + 2x gamma),
+// gamma = sqrt(1 - w) (exact for isotropic scatterers at w = 0 and w = 1, within 4% between).
+SL_INLINE float Hapke_H(float x, float gamma) { return (1.0f + 2.0f * x) / (1.0f + 2.0f * x * gamma); }
+
+// Shadow-hiding opposition surge (Hapke 1986): B(g) = B0 / (1 + tan(g/2) / h). The host passes B0 = 0 and
+// 1/h = 0 for h = 0 (ISIS: no surge without a width), so t <= PHO_TAN_MAX keeps 0 * t finite.
+SL_INLINE float Hapke_B(float t, float b0, float inv_h) { return b0 / (1.0f + t * inv_h); }
+
+// Henyey-Greenstein lobe (1 - b^2) / (1 + b^2 +- 2 b cos g)^(3/2) in the phase angle g. The denominator is
+// formed as (1 - |b|)^2 + 2 |b| (1 -+ cos g), a sum of non-negative terms, so that it keeps its digits where it
+// is smallest (|b| -> 1 near g = 0 or 180), instead of 1 + b^2 - 2b cos g, which cancels there.
+// `one_pm_cos` is 1 + cos g or 1 - cos g, whichever the lobe and sign of b call for.
+SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, float one_pm_cos) {
+    const float d = a + two_abs_b * one_pm_cos;
+    return one_minus_b2 / (d * sqrt(d));
+}
+
+// ISIS's two-term Henyey-Greenstein phase function (HapkeHen):
+//   P(g) = (1 - c) (1 - b^2) / (1 + b^2 + 2 b cos g)^(3/2) + c (1 - b^2) / (1 + b^2 - 2 b cos g)^(3/2),
+// b = Hg1, c = Hg2. c[9] = (1 - |b|)^2, c[10] = 2|b|, c[11] = 1 if b >= 0, c[12] = 1 - b^2, c[13] = c, c[14] = 1 - c.
+SL_INLINE float Hapke_P_HG2(float t, __constant const ModelConsts* mc) {
+    const float a = mc->c[9], two_abs_b = mc->c[10], b_pos_flag = mc->c[11], one_minus_b2 = mc->c[12];
+    const float c = mc->c[13], one_minus_c = mc->c[14];
+    const float opc = Pho_one_plus_cos_g(t), omc = Pho_one_minus_cos_g(t);
+    const int b_pos = b_pos_flag != 0.0f;
+    const float first = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? opc : omc);    // + 2 b cos g
+    const float second = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? omc : opc);   // - 2 b cos g
+    return one_minus_c * first + c * second;
+}
+
+// Hapke's (1981) Legendre phase function (HapkeLeg): P(g) = 1 + b cos g + c (3 cos^2 g - 1) / 2.
+SL_INLINE float Hapke_P_Legendre(float cos_g, float b, float c) {
+    return 1.0f + b * cos_g + c * (1.5f * cos_g * cos_g - 0.5f);
+}
+
+// The smooth-surface bidirectional reflectance times pi (Hapke 1981, 1986), in the (effective) cosines:
+//   pi r = (w / 4) mu0 / (mu0 + mu) [(1 + B(g)) P(g) - 1 + H(mu0) H(mu)]
+SL_INLINE float Hapke_smooth(float mu0, float mu, float w_over_4, float gamma, float B, float P) {
+    return w_over_4 * mu0 / (mu0 + mu) * ((1.0f + B) * P - 1.0f + Hapke_H(mu0, gamma) * Hapke_H(mu, gamma));
+}
+
+// E1(x) = exp(-(2/pi) cot(theta) cot x) and E2(x) = exp(-(1/pi) cot^2(theta) cot^2 x) (Hapke 1984, eqs. 45-46).
+// The host passes (2/pi) cot(theta) and (1/pi) cot^2(theta), capped at 1e15 and 1e30 (theta -> 0: the terms are
+// 0 already; the cap keeps cot^2 finite in float, where inf * 0 at cot x = 0 would be NaN). E1 is used as
+// 1 - E1 (Pho_one_minus_exp_neg, in Hapke_rough).
+SL_INLINE float Hapke_E2(float cot_x, float k2) { return Pho_exp(-k2 * cot_x * cot_x); }
+
+// mu_e(0) of a direction at angle x (Hapke 1984, eqs. 48-49):  chi (cos x + sin x tan(theta) E2(x) / (2 - E1(x))),
+// chi = 1 / sqrt(1 + pi tan^2(theta)).
+SL_INLINE float Hapke_eta(float cos_x, float sin_x, float e1, float e2, float chi, float tan_t) {
+    return chi * (cos_x + sin_x * tan_t * e2 / (2.0f - e1));
+}
+
+// 1 - exp(-x) for x >= 0 without the cancellation of 1 - Pho_exp(-x) at small x (theta-bar -> 90 deg makes
+// every E1 -> 1): below 0.03 by its Taylor series to x^4 (remainder < x^5/120 = 2e-10 of it).
+SL_INLINE float Pho_one_minus_exp_neg(float x) {
+    const float taylor = x * (1.0f - x * (0.5f - x * (1.0f / 6.0f - x * (1.0f / 24.0f))));
+    return x < 0.03f ? taylor : 1.0f - Pho_exp(-x);
+}
+
+// Hapke (1984) macroscopic roughness: the effective cosines mu0e, mue and the shadowing function S(i, e, psi)
+// (eqs. 46-51, the i <= e and i > e cases), ISIS's formulation; the law is the smooth one at mu0e, mue times S.
+// Returns S (0 where both effective cosines are 0) and sets *mu0e, *mue.
+// c[5] = chi, c[6] = tan(theta), c[7] = (2/pi) cot(theta), c[8] = (1/pi) cot^2(theta).
+// Float care: the denominators 2 - E1(e) - (psi/pi) E1(i) are formed as the sum of the non-negative terms
+// (1 - E1(e)) + (1 - psi/pi) + (psi/pi)(1 - E1(i)), with 1 - psi/pi = (2/pi) atan(1/tan(psi/2)): written as the
+// paper has them they cancel to nothing (and change sign in float) where theta-bar -> 90 deg and psi -> 180 deg.
+// The effective cosines are floored at 0 (they are cosines; at theta-bar -> 90 deg the float sum of a cosine and
+// a large tan(theta) term can round below 0), and the law is 0 where both are 0.
+SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, float k2, float* mu0e_out, float* mue_out) {
+    // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
+    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
+    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
+    const float e1i = 1.0f - om1i, e1e = 1.0f - om1e;
+    const float e2i = Hapke_E2(cot_i, k2), e2e = Hapke_E2(cot_e, k2);
+    const float eta_i = Hapke_eta(g.mu0, g.sin_i, e1i, e2i, chi, tan_t);
+    const float eta_e = Hapke_eta(g.mu, g.sin_e, e1e, e2e, chi, tan_t);
+    // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
+    const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
+    const float c = (1.0f - t2) / (1.0f + t2);
+    const float sin2_half_psi = t2 / (1.0f + t2);
+    const float psi_over_pi = 2.0f * Pho_atan(tan_half_psi) / PHO_PI;
+    const float one_minus_psi_over_pi = 2.0f * Pho_atan(1.0f / tan_half_psi) / PHO_PI;   // 1/0 = inf: 1
+    // f(psi) = exp(-2 tan(psi/2)) (Hapke 1984, eq. 50), used as 1 - f: at grazing with a large theta-bar, S
+    // depends on 1 - f ~ psi against q ~ chi mu0 / eta_i, both tiny; 1 - Pho_exp(.) would round 1 - f to 0 for
+    // psi < 6e-8 rad
+    const float one_minus_f = Pho_one_minus_exp_neg(2.0f * tan_half_psi);
+    // i <= e and i > e: eqs. 46-47 and 50-51; both are formed and one selected (no branch). i <= e is mu0 > mu,
+    // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
+    const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
+    const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
+    const float den_ei = om1i + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - (psi/pi) E1(e)
+    const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t * (c * e2e + sin2_half_psi * e2i) / den_ie);
+    const float mue_ie = chi * (g.mu + g.sin_e * tan_t * (e2e - sin2_half_psi * e2i) / den_ie);
+    const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
+    const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
+    const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f), mue = fmax(i_le_e ? mue_ie : mue_ei, 0.0f);
+    const float q = i_le_e ? chi * g.mu0 / eta_i : chi * g.mu / eta_e;
+    // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
+    const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (one_minus_f + (1.0f - one_minus_f) * q);
+    const int some = mu0e + mue > 0.0f;
+    *mu0e_out = some ? mu0e : 1.0f;   // any positive pair: the law is multiplied by S = 0 there
+    *mue_out = some ? mue : 1.0f;
+    return some ? S : 0.0f;
+}
+
+// Hapke's model with either phase function: c[0] = w/4, c[1] = gamma = sqrt(1 - w), c[2] = B0 (0 if h = 0),
+// c[3] = 1/h (0 if h = 0), c[4] = 1 for a rough surface (theta > 0), else the smooth law (ISIS: theta <= 0).
+// Every constant is read before any choice is made: a load under a condition is one PoCL's vectorised work-item
+// loop cannot hoist (kernels/shade.cl), and both laws are formed and one selected.
+SL_INLINE float Hapke_value(sl_pho g, float P, __constant const ModelConsts* mc) {
+    const float w_over_4 = mc->c[0], gamma = mc->c[1], b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
+    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+    const float B = Hapke_B(g.tan_half_g, b0, inv_h);
+    const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
+    float mu0e, mue;
+    const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
+    const float rough = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
+    return rough_flag != 0.0f ? rough : smooth;
+}
+
+// ---- Hapke's 2002/2012 refinements (the variant hapke_2012) ----------------------------------------------------
+
+// ln x for finite x > 0: x = 2^k m, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) = 2 (s + s^3/3 + ... + s^9/9),
+// s = (m - 1)/(m + 1), |s| <= 0.1716 (first omitted term s^11/11 < 2e-9 of the sum; Abramowitz & Stegun 4.1.27).
+// This file's own, branch-free (PoCL's log is a call the vectoriser cannot widen).
+SL_INLINE float Pho_log(float x) {
+    const int bits = as_int(x);
+    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
+    const int big = m0 > 1.41421356f;
+    const float m = big ? 0.5f * m0 : m0;
+    const float k = (float)((bits >> 23) - 127 + big);
+    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+    const float p = 1.0f + s2 * (1.0f / 3.0f + s2 * (0.2f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f))));
+    return k * 0.693147180559945309f + 2.0f * s * p;
+}
+
+// Hapke's (2002, Icarus 157:523, eq. 13) better H approximation (within 1% of Chandrasekhar's H for all w, x):
+//   H(x) = 1 / (1 - w x [r0 + (1 - 2 r0 x)/2 ln((1 + x)/x)]),  r0 = (1 - gamma)/(1 + gamma), gamma = sqrt(1 - w).
+// x ln((1 + x)/x) -> 0 as x -> 0 (H(0) = 1); below x = 1e-30 the term is taken as 0 (its limit) so that the
+// float quotient (1 + x)/x does not overflow.
+SL_INLINE float Hapke_H2002(float x, float w, float r0) {
+    const float xl = x > 1.0e-30f ? x * Pho_log((1.0f + x) / fmax(x, 1.0e-30f)) : 0.0f;
+    return 1.0f / (1.0f - w * (x * r0 + 0.5f * (1.0f - 2.0f * r0 * x) * xl));
+}
+
+// Coherent-backscatter opposition effect (Hapke 2002, eq. 32; Hapke 2012, eq. 9.43):
+//   B_C(g) = (1 + (1 - exp(-z))/z) / (2 (1 + z)^2),  z = tan(g/2)/h_C;  B_C(0) = 1. inv_hc = 1/h_C (0: none).
+SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
+    const float z = t * inv_hc;
+    const float frac = z > 1.0e-4f ? Pho_one_minus_exp_neg(z) / z : 1.0f - 0.5f * z;   // (1 - e^-z)/z, z -> 0: 1 - z/2
+    return bc0 * (1.0f + frac) / (2.0f * (1.0f + z) * (1.0f + z));
+}
+
+// The porosity-corrected smooth law (Hapke 2008, Icarus 195:918; Hapke 2012, eq. 12.55 without roughness):
+//   pi r = K (w/4) mu0/(mu0 + mu) [P(g) (1 + B_SH(g)) + H(mu0/K) H(mu/K) - 1] (1 + B_CB(g)),
+// H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
+SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
+    const float inv_K = 1.0f / K;
+    const float M = Hapke_H2002(mu0 * inv_K, w, r0) * Hapke_H2002(mu * inv_K, w, r0) - 1.0f;
+    return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
+}
+
+// ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
+
+// lommel_seeliger: 2 mu0 / (mu0 + mu). No parameters.
+SL_INLINE float lommel_seeliger_pho(sl_pho g, __constant const ModelConsts* mc) {
+    (void)mc;
+    return Pho_visible(g) ? Pho_LommelSeeliger(g.mu0, g.mu) : 0.0f;
+}
+
+// lunar_lambert: mu0 ((1 - L) + 2 L / (mu0 + mu)). c[0] = L.
+SL_INLINE float lunar_lambert_pho(sl_pho g, __constant const ModelConsts* mc) {
+    return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, mc->c[0]) : 0.0f;
+}
+
+// lunar_lambert_mcewen: Lunar-Lambert with McEwen's L(g). c[0..2] = M1, M2, M3.
+SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
+    return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, L) : 0.0f;
+}
+
+// lunar_lambert_mcewen_ratio: what ISIS's LunarLambertMcEwen returns, the normalising ratio
+//   R30 / r(g, i, e),  r = Lunar-Lambert with L(g),  R30 = r(30, 30, 0) (c[3], computed on the host);
+// 0 where r <= 0 (ISIS). r is floored at 1e-3 (c[4]), capping the ratio at 1000 R30 (ISIS divides by r as it
+// is, and the ratio grows without bound at the terminator); the floor acts where mu0 < ~1e-3 (i > 89.94 deg) or
+// where McEwen's L(g) < 0 brings r itself near 0.
+SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float r30 = mc->c[3], r_floor = mc->c[4];
+    const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
+    const float r = Pho_LunarLambert(g.mu0, g.mu, L);
+    return Pho_visible(g) && r > 0.0f ? r30 / fmax(r, r_floor) : 0.0f;
+}
+
+// hapke_hen: Hapke with the two-term Henyey-Greenstein phase function (ISIS HapkeHen).
+SL_INLINE float hapke_hen_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float v = Hapke_value(g, Hapke_P_HG2(g.tan_half_g, mc), mc);
+    return Pho_visible(g) ? v : 0.0f;
+}
+
+// hapke_leg: Hapke with the Legendre phase function (ISIS HapkeLeg). c[9] = b (Bh), c[10] = c (Ch).
+SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float bh = mc->c[9], ch = mc->c[10];
+    const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, bh, ch), mc);
+    return Pho_visible(g) ? v : 0.0f;
+}
+
+// hapke_2012: Hapke's 2002/2012 refinements - the 2002 H function, porosity K, coherent backscatter - with the
+// 1986 shadow-hiding surge, the 1984 roughness and ISIS's two-term Henyey-Greenstein P(g) (c[9..14] as hapke_hen).
+// c[0] = w/4 (unused: w is c[15]), c[1] = gamma, c[2..8] as hapke_hen, c[15] = w, c[16] = r0, c[17] = K,
+// c[18] = B_C0, c[19] = 1/h_C (0: no coherent backscatter).
+SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
+    const float b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
+    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+    const float w = mc->c[15], r0 = mc->c[16], K = mc->c[17], bc0 = mc->c[18], inv_hc = mc->c[19];
+    const float P = Hapke_P_HG2(g.tan_half_g, mc);
+    const float B_SH = Hapke_B(g.tan_half_g, b0, inv_h), B_CB = Hapke_BC(g.tan_half_g, bc0, inv_hc);
+    const float smooth = Hapke2012_smooth(g.mu0, g.mu, w, r0, K, B_SH, B_CB, P);
+    float mu0e, mue;
+    const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
+    const float rough = Hapke2012_smooth(mu0e, mue, w, r0, K, B_SH, B_CB, P) * S;
+    return Pho_visible(g) ? (rough_flag != 0.0f ? rough : smooth) : 0.0f;
+}
+
+// ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------
+#define PHO_CATALOGUE_EVAL(model)                                                                             \
+    SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {     \
+        (void)P;                                                                                              \
+        return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), mc));                                \
+    }
+PHO_CATALOGUE_EVAL(lommel_seeliger)
+PHO_CATALOGUE_EVAL(lunar_lambert)
+PHO_CATALOGUE_EVAL(lunar_lambert_mcewen)
+PHO_CATALOGUE_EVAL(lunar_lambert_mcewen_ratio)
+PHO_CATALOGUE_EVAL(hapke_hen)
+PHO_CATALOGUE_EVAL(hapke_leg)
+PHO_CATALOGUE_EVAL(hapke_2012)
+
+#endif
