@@ -17,6 +17,7 @@ void add_batch_command(CLI::App& app);   // host/app/cmd_batch.cpp
 void add_compare_command(CLI::App& app); // host/app/cmd_compare.cpp
 void add_plan_command(CLI::App& app);    // host/app/cmd_plan.cpp
 void add_chart_command(CLI::App& app);   // host/app/cmd_chart.cpp
+void add_fit_command(CLI::App& app);     // host/app/cmd_fit.cpp
 
 // Small parsers shared by the commands; each throws shadelab::Error naming the option and the text.
 glm::dvec3 parse_vec3(const std::string& text, const std::string& option);

@@ -7,6 +7,7 @@
 
 #include "cl/runtime.hpp"
 #include "core/fragment_buffer.hpp"
+#include "models/catalogue.hpp"
 #include "models/material.hpp"
 
 namespace shadelab {
@@ -49,6 +50,21 @@ public:
     std::vector<float> eval_directions(const Material& material, const std::vector<float>& N,
                                        const std::vector<float>& L, const std::vector<float>& V,
                                        const std::vector<float>& P, Precision precision = Precision::Precise);
+
+    // Fitting (host/fit/): samples uploaded once, then the model alone (as eval_directions) at every sample for
+    // many constant sets per launch (kernels/shade.cl, eval_batch). N, L, V, P are xyz-interleaved, 3n floats.
+    struct DeviceSamples {
+        cl::Buffer dirs;              // 12 planes of `stride` floats: N, L, V, P by component
+        std::size_t n = 0, stride = 0;
+    };
+    DeviceSamples upload_samples(const std::vector<float>& N, const std::vector<float>& L,
+                                 const std::vector<float>& V, const std::vector<float>& P);
+    // `consts` holds one set after another, each pack_material(m) of a material of `shape`'s model (and
+    // children count): consts.size() = sets * (1 + children). Returns per set three planes (r, g, b) of n
+    // floats, the sets one after another (3 n floats each). `kernel_ms`, when given, gets the device time.
+    std::vector<float> eval_batch(const Material& shape, const DeviceSamples& samples,
+                                  const std::vector<ModelConsts>& consts, Precision precision = Precision::Precise,
+                                  double* kernel_ms = nullptr);
 
     // The -D defines a material (and light count) is built with; also the program cache key.
     static std::vector<std::string> defines_for(const Material& resolved, int num_lights,

@@ -1,0 +1,147 @@
+#include "fit/domain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace shadelab::fit {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The radical inverse of i in `base` (van der Corput): the i-th Halton coordinate.
+double radical_inverse(std::uint64_t i, unsigned base) {
+    double inv = 1.0 / base, f = inv, r = 0.0;
+    while (i > 0) {
+        r += f * double(i % base);
+        i /= base;
+        f *= inv;
+    }
+    return r;
+}
+
+// Point i of the Halton sequence in bases 2, 3, 5, 7, shifted by `shift` modulo 1 (Cranley-Patterson).
+struct Qmc {
+    double shift[4];
+    explicit Qmc(std::uint64_t seed) {
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> u(0.0, 1.0);
+        for (double& s : shift) s = u(rng);
+    }
+    double at(std::uint64_t i, int dim) const {
+        static const unsigned bases[4] = {2, 3, 5, 7};
+        const double x = radical_inverse(i + 1, bases[dim]) + shift[dim];   // i + 1: skip the all-zero point
+        return x - std::floor(x);
+    }
+};
+
+// Uniform in solid angle over the upper hemisphere about +z: cos theta = u1, azimuth 2 pi u2.
+glm::dvec3 hemisphere_dir(double u1, double u2) {
+    const double c = u1, s = std::sqrt(std::max(0.0, 1.0 - c * c)), phi = 2.0 * kPi * u2;
+    return {s * std::cos(phi), s * std::sin(phi), c};
+}
+
+// A unit vector at angle g from the unit vector a, at azimuth 2 pi u about it.
+glm::dvec3 at_angle_from(const glm::dvec3& a, double g, double u) {
+    const glm::dvec3 helper = std::abs(a.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 t = glm::normalize(glm::cross(helper, a)), b = glm::cross(a, t);
+    const double phi = 2.0 * kPi * u;
+    return glm::normalize(std::cos(g) * a + std::sin(g) * (std::cos(phi) * t + std::sin(phi) * b));
+}
+
+std::string num(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+}  // namespace
+
+Domain hemisphere_domain(const HemisphereOptions& o) {
+    if (o.samples < 64 || o.samples > (std::size_t(1) << 22))
+        throw Error("--samples " + std::to_string(o.samples) + " is out of range: use 64 to 4194304");
+    if (o.has_phase && !(o.phase_deg >= 0.0 && o.phase_deg <= 180.0))
+        throw Error("--phase " + num(o.phase_deg) + " is out of range: give the angle between L and V in [0, 180] degrees");
+    if (!(o.min_cos >= 0.0 && o.min_cos < 1.0))
+        throw Error("--min-cos " + num(o.min_cos) + " is out of range: use [0, 1)");
+    if (o.has_phase && o.at_normal && o.phase_deg > 90.0)
+        throw Error("--phase " + num(o.phase_deg) + " with --at-normal puts the light below the horizon: use a phase <= 90");
+    Domain d;
+    d.seed = o.seed;
+    const Qmc q(o.seed);
+    const double g = o.phase_deg * kPi / 180.0;
+    const glm::dvec3 Nz(0, 0, 1);
+    // Draws until `samples` pairs fall inside the domain (rejection keeps the restricted pairs uniform).
+    const std::uint64_t limit = 4000 * std::uint64_t(o.samples) + 100000;
+    for (std::uint64_t i = 0; d.size() < o.samples; ++i) {
+        if (i > limit)
+            throw Error("the fit domain is (almost) empty: fewer than " + std::to_string(o.samples) + " of " +
+                        std::to_string(limit) + " draws fall inside it; relax --phase / --min-cos");
+        glm::dvec3 L, V;
+        if (o.at_normal) {
+            V = Nz;
+            L = o.has_phase ? at_angle_from(Nz, g, q.at(i, 1)) : hemisphere_dir(q.at(i, 0), q.at(i, 1));
+        } else {
+            L = hemisphere_dir(q.at(i, 0), q.at(i, 1));
+            V = o.has_phase ? at_angle_from(L, g, q.at(i, 2)) : hemisphere_dir(q.at(i, 2), q.at(i, 3));
+        }
+        if (V.z < 0.0 || L.z < 0.0) continue;   // a phase pair with V below the horizon
+        if (L.z < o.min_cos || V.z < o.min_cos) continue;
+        d.N.push_back(Nz);
+        d.L.push_back(L);
+        d.V.push_back(V);
+        d.P.push_back(glm::dvec3(0.0));
+    }
+    std::ostringstream name, desc;
+    name << "hemisphere";
+    if (o.at_normal) name << ", view on the normal";
+    if (o.has_phase) name << ", phase " << o.phase_deg << " deg";
+    if (o.min_cos > 0.0) name << ", NoL, NoV >= " << o.min_cos;
+    d.name = name.str();
+    desc << o.samples << " samples: N = +z, ";
+    if (o.at_normal) desc << "V = N, L uniform in solid angle over the upper hemisphere";
+    else desc << "L and V each uniform in solid angle over the upper hemisphere";
+    if (o.has_phase) desc << (o.at_normal ? " at angle " : ", restricted to angle(L, V) = ") << o.phase_deg << " deg";
+    if (o.min_cos > 0.0) desc << ", NoL and NoV >= " << o.min_cos;
+    desc << " (randomised Halton points, seed " << o.seed << ")";
+    d.description = desc.str();
+    return d;
+}
+
+Domain grazing_cut(const Domain& d, double c, std::vector<std::size_t>* kept) {
+    Domain out;
+    out.seed = d.seed;
+    out.name = d.name + ", NoL, NoV >= " + num(c);
+    if (kept) kept->clear();
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        if (glm::dot(d.N[i], d.L[i]) < c || glm::dot(d.N[i], d.V[i]) < c) continue;
+        out.N.push_back(d.N[i]);
+        out.L.push_back(d.L[i]);
+        out.V.push_back(d.V[i]);
+        out.P.push_back(d.P[i]);
+        if (kept) kept->push_back(i);
+    }
+    out.description = std::to_string(out.size()) + " of the " + std::to_string(d.size()) + " samples with NoL, NoV >= " + num(c);
+    return out;
+}
+
+SampleAngles angles_of(const Domain& d, std::size_t i) {
+    const glm::dvec3 N = glm::normalize(d.N[i]), L = glm::normalize(d.L[i]), V = glm::normalize(d.V[i]);
+    auto deg = [](double c) { return std::acos(std::clamp(c, -1.0, 1.0)) * 180.0 / kPi; };
+    SampleAngles a;
+    a.NoL = glm::dot(N, L);
+    a.NoV = glm::dot(N, V);
+    a.theta_i = deg(a.NoL);
+    a.theta_r = deg(a.NoV);
+    a.phase = deg(glm::dot(L, V));
+    const glm::dvec3 Lt = L - a.NoL * N, Vt = V - a.NoV * N;
+    const double ll = glm::length(Lt), lv = glm::length(Vt);
+    a.dphi = (ll > 1e-9 && lv > 1e-9) ? deg(glm::dot(Lt, Vt) / (ll * lv)) : 0.0;
+    return a;
+}
+
+}  // namespace shadelab::fit
