@@ -29,7 +29,7 @@ struct FitArgs {
     std::string metric = "rel-rms";
     std::string json;
     std::string out_dir;
-    std::size_t samples = 16384;
+    std::size_t samples = 65536;
     std::uint64_t seed = 1;
     double phase = -1.0;
     bool at_normal = false;

@@ -135,7 +135,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         {
             Evaluator& ev = problem.full();
             const std::size_t n = ev.size();
-            const auto fk = ev.kernel(shape, {row.fit.values()});
+            const auto fk = ev.kernel(shape, {row.fit.values()}, 1);
             const auto fr = ev.reference(shape, row.fit.values());
             double num2 = 0.0, den2 = 0.0;
             for (std::size_t i = 0; i < n; ++i) {

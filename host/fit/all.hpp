@@ -17,8 +17,8 @@ struct AllOptions {
     std::vector<std::string> models;        // empty: the whole catalogue
     double model_specular = -1.0;           // < 0: the target's
     std::string out_dir;                    // table and chart; empty: none written
-    std::size_t timed_fragments = std::size_t(1) << 20;
-    int timing_repeats = 3;
+    std::size_t timed_fragments = std::size_t(1) << 19;
+    int timing_repeats = 2;
 };
 
 struct AllRow {

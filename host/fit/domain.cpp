@@ -85,9 +85,16 @@ Domain hemisphere_domain(const HemisphereOptions& o) {
         if (o.at_normal) {
             V = Nz;
             L = o.has_phase ? at_angle_from(Nz, g, q.at(i, 1)) : hemisphere_dir(q.at(i, 0), q.at(i, 1));
+        } else if (o.has_phase) {
+            L = hemisphere_dir(q.at(i, 0), q.at(i, 3));
+            V = at_angle_from(L, g, q.at(i, 2));
         } else {
-            L = hemisphere_dir(q.at(i, 0), q.at(i, 1));
-            V = o.has_phase ? at_angle_from(L, g, q.at(i, 2)) : hemisphere_dir(q.at(i, 2), q.at(i, 3));
+            // V's azimuth is L's plus a uniform offset (so still uniform and independent of L's): the offset, the
+            // one azimuth an isotropic model sees, takes a low-discrepancy coordinate of its own.
+            const double phi_l = q.at(i, 3);
+            L = hemisphere_dir(q.at(i, 0), phi_l);
+            const double phi_v = phi_l + q.at(i, 2);
+            V = hemisphere_dir(q.at(i, 1), phi_v - std::floor(phi_v));
         }
         if (V.z < 0.0 || L.z < 0.0) continue;   // a phase pair with V below the horizon
         if (L.z < o.min_cos || V.z < o.min_cos) continue;

@@ -25,7 +25,7 @@ struct Domain {
 };
 
 struct HemisphereOptions {
-    std::size_t samples = 16384;
+    std::size_t samples = 65536;
     std::uint64_t seed = 1;
     bool has_phase = false;   // only pairs with angle(L, V) = phase_deg
     double phase_deg = 0.0;

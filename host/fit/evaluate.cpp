@@ -48,22 +48,50 @@ Evaluator::Evaluator(Runtime& rt, Domain domain, Precision precision)
     device_ = shader_.upload_samples(N, L, V, P);
 }
 
-std::vector<float> Evaluator::kernel(const ModelShape& shape, const std::vector<std::vector<double>>& sets) {
+std::vector<float> Evaluator::kernel(const ModelShape& shape, const std::vector<std::vector<double>>& sets, int planes) {
     if (sets.empty()) return {};
     std::vector<ModelConsts> consts;
     Material first;
+    std::vector<std::size_t> valid;   // the sets the model accepts, in order
     for (std::size_t s = 0; s < sets.size(); ++s) {
         if (observer) observer(shape.model, sets[s]);
         const Material m = material_at(shape, sets[s]);
-        if (s == 0) first = m;
-        const auto k = pack_material(m);
-        consts.insert(consts.end(), k.begin(), k.end());
+        try {
+            const auto k = pack_material(m);
+            consts.insert(consts.end(), k.begin(), k.end());
+            if (valid.empty()) first = m;
+            valid.push_back(s);
+        } catch (const Error&) {
+            // A combination the model refuses (toon's thresholds must ascend): not evaluated; its values are
+            // NaN, which the fit reads as "no value here".
+        }
     }
+    const std::size_t stride = std::size_t(planes) * size();
     double ms = 0.0;
-    auto out = shader_.eval_batch(first, device_, consts, precision_, &ms);
+    if (valid.size() == sets.size()) {
+        auto got = shader_.eval_batch(first, device_, consts, precision_, &ms, planes);
+        kernel_ms_ += ms;
+        kernel_evals_ += sets.size() * size();
+        return got;
+    }
+    std::vector<float> out(sets.size() * stride, std::nanf(""));
+    if (!valid.empty()) {
+        const auto got = shader_.eval_batch(first, device_, consts, precision_, &ms, planes);
+        for (std::size_t q = 0; q < valid.size(); ++q)
+            std::copy_n(got.begin() + q * stride, stride, out.begin() + valid[q] * stride);
+    }
     kernel_ms_ += ms;
-    kernel_evals_ += sets.size() * size();
+    kernel_evals_ += valid.size() * size();
     return out;
+}
+
+bool Evaluator::accepts(const Material& m) {
+    try {
+        pack_material(m);
+        return true;
+    } catch (const Error&) {
+        return false;
+    }
 }
 
 std::vector<double> Evaluator::reference(const Material& m) {

@@ -34,8 +34,12 @@ public:
     const Domain& domain() const { return domain_; }
     std::size_t size() const { return domain_.size(); }
 
-    // Kernel values for each parameter set: per set 3 planes (r, g, b) of size() floats, sets one after another.
-    std::vector<float> kernel(const ModelShape& shape, const std::vector<std::vector<double>>& sets);
+    // Kernel values for each parameter set: per set `planes` planes (1: red only; 3: r, g, b) of size() floats,
+    // sets one after another.
+    std::vector<float> kernel(const ModelShape& shape, const std::vector<std::vector<double>>& sets, int planes = 3);
+    // Whether the model accepts this combination of parameter values (each within range, but some models
+    // constrain them together: toon's thresholds ascend). The kernel gives NaN values for a refused set.
+    static bool accepts(const Material& m);
     // Reference values of one material: 3 planes of size() doubles. Runs on the hardware threads (at most 8);
     // the result does not depend on their number.
     std::vector<double> reference(const Material& m);

@@ -62,10 +62,9 @@ using ValuesFn = std::function<std::vector<std::vector<double>>(const std::vecto
 ValuesFn kernel_values(Evaluator& ev, const ModelShape& shape) {
     return [&ev, shape](const std::vector<std::vector<double>>& sets) {
         const std::size_t n = ev.size();
-        const auto f = ev.kernel(shape, sets);
+        const auto f = ev.kernel(shape, sets, 1);
         std::vector<std::vector<double>> out(sets.size());
-        for (std::size_t s = 0; s < sets.size(); ++s)
-            out[s].assign(f.begin() + 3 * n * s, f.begin() + 3 * n * s + n);
+        for (std::size_t s = 0; s < sets.size(); ++s) out[s].assign(f.begin() + n * s, f.begin() + n * (s + 1));
         return out;
     };
 }
@@ -75,7 +74,12 @@ ValuesFn reference_values(Evaluator& ev, const ModelShape& shape) {
         const std::size_t n = ev.size();
         std::vector<std::vector<double>> out;
         for (const auto& x : sets) {
-            auto v = ev.reference(shape, x);
+            const Material m = material_at(shape, x);
+            if (!Evaluator::accepts(m)) {
+                out.emplace_back(n, std::nan(""));
+                continue;
+            }
+            auto v = ev.reference(m);
             v.resize(n);
             out.push_back(std::move(v));
         }
@@ -89,6 +93,7 @@ struct Scaled {
     double a = 0.0, ssr = 0.0;
 };
 Scaled best_scale(const std::vector<double>& f, const double* t, std::size_t n) {
+    if (!f.empty() && std::isnan(f[0])) return Scaled{0.0, std::numeric_limits<double>::infinity()};   // refused set
     double ft = 0.0, ff = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
         ft += f[i] * t[i];
@@ -163,7 +168,7 @@ std::vector<double> with_u(const Space& sp, std::vector<double> x, std::size_t j
 // re-solved in closed form at every point. `h`: finite-difference step in mapped units; `trials`: damping
 // values tried per iteration in one batch.
 Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, const Space& sp, Point p, double h,
-                          int iterations, int trials, double tt) {
+                          int iterations, int trials, double tt, bool central) {
     const std::size_t k = sp.free_c.size();
     if (k == 0) return p;
     std::vector<double> f0 = F({p.x})[0];
@@ -174,16 +179,24 @@ Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, con
     }
     double lambda = 1e-3;
     for (int it = 0; it < iterations; ++it) {
-        // Jacobian columns d(a f)/du_j by central differences, one-sided at a bound (never outside the box).
+        // Jacobian columns d(a f)/du_j by central (or forward) differences, one-sided at a bound (never
+        // outside the box).
         std::vector<std::vector<double>> sets;
         std::vector<double> du(k);
         std::vector<double> u(k);
+        std::vector<bool> down_is_centre(k, false);
         for (std::size_t c = 0; c < k; ++c) {
             const std::size_t j = sp.free_c[c];
             u[c] = sp.axes[j].u(p.x[j]);
-            const double up = std::min(1.0, u[c] + h), dn = std::max(0.0, u[c] - h);
-            sets.push_back(with_u(sp, p.x, j, up));
-            sets.push_back(with_u(sp, p.x, j, dn));
+            double up = std::min(1.0, u[c] + h), dn = std::max(0.0, u[c] - h);
+            if (!central) {
+                if (u[c] + h <= 1.0) dn = u[c];   // forward
+                else up = u[c];                    // backward at the upper bound
+            }
+            down_is_centre[c] = !central && dn == u[c];
+            const bool up_is_centre = !central && up == u[c];
+            if (!up_is_centre) sets.push_back(with_u(sp, p.x, j, up));
+            if (!down_is_centre[c]) sets.push_back(with_u(sp, p.x, j, dn));
             du[c] = up - dn;
         }
         const auto fv = F(sets);
@@ -191,8 +204,19 @@ Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, con
         const std::size_t K = k + 1;
         std::vector<double> JtJ(K * K, 0.0), Jtr(K, 0.0);
         std::vector<std::vector<double>> J(K, std::vector<double>(n));
-        for (std::size_t c = 0; c < k; ++c)
-            for (std::size_t i = 0; i < n; ++i) J[c][i] = p.a * (fv[2 * c][i] - fv[2 * c + 1][i]) / du[c];
+        for (std::size_t c = 0, q = 0; c < k; ++c) {
+            const std::vector<double>* hi_v = &f0;
+            const std::vector<double>* lo_v = &f0;
+            if (central) {
+                hi_v = &fv[q++];
+                lo_v = &fv[q++];
+            } else if (down_is_centre[c]) {
+                hi_v = &fv[q++];
+            } else {
+                lo_v = &fv[q++];
+            }
+            for (std::size_t i = 0; i < n; ++i) J[c][i] = du[c] > 0.0 ? p.a * ((*hi_v)[i] - (*lo_v)[i]) / du[c] : 0.0;
+        }
         J[k] = f0;
         for (std::size_t r1 = 0; r1 < K; ++r1) {
             for (std::size_t r2 = r1; r2 < K; ++r2) {
@@ -407,12 +431,18 @@ Point integer_neighbours(const ValuesFn& F, const double* t, std::size_t n, cons
 }
 
 // Coarse search, then LM in float from the best distinct starts, then polish in double.
-Point search(Evaluator& full, const std::vector<double>& t_full, Evaluator& coarse, const std::vector<double>& t_coarse,
-             const ModelShape& shape, const Space& sp, const std::vector<double>& base, const FitOptions& o,
-             const Point* start) {
-    const std::size_t n = full.size(), nc = coarse.size();
-    const double tt = sum_sq(t_full.data(), n);
-    const ValuesFn Fk = kernel_values(full, shape), Fr = reference_values(full, shape);
+// `start`: refine from there (no coarse search). `float_only`: the float LM alone, on every sample (on the
+// float_samples prefix for over 4 parameters), no double polish: the limb check's refit, which compares
+// parameters at 1e-3 of their range.
+Point search(Problem& problem, const ModelShape& shape, const Space& sp, const std::vector<double>& base,
+             const FitOptions& o, const Point* start, bool float_only = false) {
+    Evaluator& full = problem.full();
+    const std::vector<double>& t_full = problem.target();
+    const Problem::Prefix coarse = problem.prefix(o.coarse_samples),
+                          mid = problem.prefix(float_only && sp.free_c.size() <= 4 ? full.size() : o.float_samples);
+    const std::size_t n = full.size(), nc = coarse.ev->size(), nm = mid.ev->size();
+    const double tt = sum_sq(t_full.data(), n), tt_mid = sum_sq(mid.target->data(), nm);
+    const ValuesFn Fk = kernel_values(*mid.ev, shape), Fr = reference_values(full, shape);
     std::vector<Point> starts;
     if (start) {
         starts.push_back(*start);
@@ -421,20 +451,21 @@ Point search(Evaluator& full, const std::vector<double>& t_full, Evaluator& coar
         if (sets.empty()) {
             starts.push_back(Point{base});
         } else {
-            const ValuesFn Fc = kernel_values(coarse, shape);
+            const ValuesFn Fc = kernel_values(*coarse.ev, shape);
             std::vector<Point> all;
             for (std::size_t s0 = 0; s0 < sets.size(); s0 += 512) {
                 const std::vector<std::vector<double>> chunk(sets.begin() + s0,
                                                              sets.begin() + std::min(sets.size(), s0 + 512));
                 const auto v = Fc(chunk);
                 for (std::size_t q = 0; q < chunk.size(); ++q) {
-                    const Scaled s = best_scale(v[q], t_coarse.data(), nc);
+                    const Scaled s = best_scale(v[q], coarse.target->data(), nc);
                     all.push_back(Point{chunk[q], s.a, s.ssr});
                 }
             }
             std::stable_sort(all.begin(), all.end(), [](const Point& a, const Point& b) { return a.ssr < b.ssr; });
             for (const auto& p : all) {
-                if (int(starts.size()) >= o.starts) break;
+                const std::size_t d = sp.free_c.size() + sp.free_i.size();
+                if (int(starts.size()) >= (d > 4 ? 2 : o.starts)) break;
                 bool distinct = true;
                 for (const auto& q : starts) distinct = distinct && u_distance(sp, p.x, q.x) > 0.1;
                 if (distinct) starts.push_back(p);
@@ -443,9 +474,12 @@ Point search(Evaluator& full, const std::vector<double>& t_full, Evaluator& coar
     }
     Point best;
     for (Point p : starts) {
-        p = levenberg_marquardt(Fk, t_full.data(), n, sp, p, 1e-3, o.float_iterations, 3, tt);
+        // Over 4 parameters (each iteration a batch of 2d sets) fewer float iterations.
+        const int iters = sp.free_c.size() > 4 ? std::min(o.float_iterations, 15) : o.float_iterations;
+        if (!start || float_only) p = levenberg_marquardt(Fk, mid.target->data(), nm, sp, p, 1e-3, iters, 3, tt_mid, true);
         if (p.ssr < best.ssr || best.x.empty()) best = p;
     }
+    if (float_only) return best;
     // Polish in double: the scale and error from the references, then LM with small steps.
     {
         const auto f = Fr({best.x})[0];
@@ -453,10 +487,11 @@ Point search(Evaluator& full, const std::vector<double>& t_full, Evaluator& coar
         best.a = s.a;
         best.ssr = s.ssr;
     }
-    best = levenberg_marquardt(Fr, t_full.data(), n, sp, best, 1e-6, o.double_iterations, 1, tt);
+    const int polish = sp.free_c.size() > 4 ? std::min(o.double_iterations, 3) : o.double_iterations;
+    best = levenberg_marquardt(Fr, t_full.data(), n, sp, best, 1e-7, polish, 1, tt, false);
     if (!sp.free_i.empty()) {
         best = integer_neighbours(Fr, t_full.data(), n, sp, best);
-        best = levenberg_marquardt(Fr, t_full.data(), n, sp, best, 1e-6, o.double_iterations, 1, tt);
+        best = levenberg_marquardt(Fr, t_full.data(), n, sp, best, 1e-7, polish, 1, tt, false);
     }
     return best;
 }
@@ -474,17 +509,27 @@ Problem::Problem(Runtime& rt, Domain domain, Material target, Precision precisio
 void Problem::set_observer(std::function<void(const std::string&, const std::vector<double>&)> f) {
     observer_ = f;
     full_->observer = f;
-    if (coarse_) coarse_->observer = f;
+    for (auto& [_, o] : prefixes_) o.ev->observer = f;
     if (grazing_) grazing_->set_observer(f);
 }
 
-Evaluator& Problem::coarse(std::size_t samples) {
+std::size_t Problem::kernel_evaluations() const {
+    std::size_t s = full_->kernel_evaluations() + (grazing_ ? grazing_->kernel_evaluations() : 0);
+    for (const auto& [_, o] : prefixes_) s += o.ev->kernel_evaluations();
+    return s;
+}
+
+std::size_t Problem::reference_evaluations() const {
+    std::size_t s = full_->reference_evaluations() + (grazing_ ? grazing_->reference_evaluations() : 0);
+    for (const auto& [_, o] : prefixes_) s += o.ev->reference_evaluations();
+    return s;
+}
+
+Problem::Prefix Problem::prefix(std::size_t samples) {
     const std::size_t n = full_->size();
-    if (samples >= n) {
-        coarse_target_ = target_;
-        return *full_;
-    }
-    if (!coarse_ || coarse_->size() != samples) {
+    if (samples >= n) return Prefix{full_.get(), &target_};
+    auto it = prefixes_.find(samples);
+    if (it == prefixes_.end()) {
         const Domain& d = full_->domain();
         Domain c;
         c.name = d.name;
@@ -494,13 +539,15 @@ Evaluator& Problem::coarse(std::size_t samples) {
         c.L.assign(d.L.begin(), d.L.begin() + samples);
         c.V.assign(d.V.begin(), d.V.begin() + samples);
         c.P.assign(d.P.begin(), d.P.begin() + samples);
-        coarse_ = std::make_unique<Evaluator>(rt_, std::move(c), precision_);
-        coarse_->observer = observer_;
-        coarse_target_.assign(3 * samples, 0.0);
+        Owned o;
+        o.ev = std::make_unique<Evaluator>(rt_, std::move(c), precision_);
+        o.ev->observer = observer_;
+        o.target.assign(3 * samples, 0.0);
         for (int ch = 0; ch < 3; ++ch)
-            std::copy_n(target_.begin() + ch * n, samples, coarse_target_.begin() + ch * samples);
+            std::copy_n(target_.begin() + ch * n, samples, o.target.begin() + ch * samples);
+        it = prefixes_.emplace(samples, std::move(o)).first;
     }
-    return *coarse_;
+    return Prefix{it->second.ev.get(), &it->second.target};
 }
 
 Problem& Problem::grazing(double c) {
@@ -555,7 +602,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     const ModelInfo& info = find_model(shape.model);
     Evaluator& full = problem.full();
     const std::size_t n = full.size();
-    const std::size_t k0 = full.kernel_evaluations(), r0 = full.reference_evaluations();
+    const std::size_t k0 = problem.kernel_evaluations(), r0 = problem.reference_evaluations();
     const std::vector<double>& t = problem.target();
     const double tt = sum_sq(t.data(), n);
 
@@ -583,8 +630,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
             (p.integer ? sp.free_i : sp.free_c).push_back(j);
         }
     }
-    Evaluator& coarse = problem.coarse(o.coarse_samples);
-    Point best = search(full, t, coarse, problem.coarse_target(), shape, sp, base, o, nullptr);
+    Point best = search(problem, shape, sp, base, o, nullptr);
     const ValuesFn Fr = reference_values(full, shape), Fk = kernel_values(full, shape);
     const std::vector<double> fbest = Fr({best.x})[0];
 
@@ -631,18 +677,27 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     std::vector<std::vector<double>> J;
     std::vector<double> colnorm(k, 0.0);
     {
+        // Over 4 parameters: forward differences (half the reference evaluations; ample for standard errors).
+        const bool central = k <= 4;
         std::vector<std::vector<double>> sets;
         std::vector<double> dx(k);
         for (std::size_t c = 0; c < k; ++c) {
             const std::size_t j = sp.free_c[c];
             const double u = sp.axes[j].u(best.x[j]);
-            const double up = std::min(1.0, u + 1e-5), dn = std::max(0.0, u - 1e-5);
+            double up = std::min(1.0, u + 1e-5), dn = std::max(0.0, u - 1e-5);
+            if (!central && up > u) dn = u;
             auto xu = with_u(sp, best.x, j, up), xd = with_u(sp, best.x, j, dn);
             dx[c] = xu[j] - xd[j];
             sets.push_back(xu);
-            sets.push_back(xd);
+            if (central || dn < u) sets.push_back(xd);
+            else sets.push_back({});   // the optimum itself: fbest
         }
-        const auto fv = k > 0 ? Fr(sets) : std::vector<std::vector<double>>{};
+        std::vector<std::vector<double>> todo;
+        for (const auto& x : sets)
+            if (!x.empty()) todo.push_back(x);
+        const auto got = todo.empty() ? std::vector<std::vector<double>>{} : Fr(todo);
+        std::vector<std::vector<double>> fv;
+        for (std::size_t q = 0, g = 0; q < sets.size(); ++q) fv.push_back(sets[q].empty() ? fbest : got[g++]);
         for (std::size_t c = 0; c < k; ++c) {
             std::vector<double> col(n, 0.0);
             if (dx[c] > 0.0)
@@ -810,8 +865,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
             FitOptions og = o;
             og.limb_check = false;
             Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
-            const Point pg = search(g.full(), g.target(), g.coarse(o.coarse_samples), g.coarse_target(), shape, sp,
-                                    base, og, &start);
+            const Point pg = search(g, shape, sp, base, og, &start, true);
             lc.done = true;
             lc.params = pg.x;
             lc.albedo = pg.a * shape.albedo.x;
@@ -836,8 +890,8 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     }
     for (const auto& d : r.diagnostics)
         if (d.ill_posed) r.well_posed = false;
-    r.kernel_evaluations = full.kernel_evaluations() - k0;
-    r.reference_evaluations = full.reference_evaluations() - r0;
+    r.kernel_evaluations = problem.kernel_evaluations() - k0;
+    r.reference_evaluations = problem.reference_evaluations() - r0;
     r.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     return r;
 }

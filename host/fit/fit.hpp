@@ -36,9 +36,10 @@ namespace shadelab::fit {
 struct FitOptions {
     bool limb_check = true;
     double limb_cos = 0.05;          // the limb check's cut: NoL, NoV >= limb_cos
-    int starts = 3;                  // distinct coarse minima refined
-    std::size_t coarse_samples = 4096;
-    int float_iterations = 40;
+    int starts = 2;                  // distinct coarse minima refined (1 for more than 4 parameters)
+    std::size_t coarse_samples = 4096;   // the coarse search runs on the domain's first samples
+    std::size_t float_samples = 16384;   // and the float Levenberg-Marquardt on these (the polish on all)
+    int float_iterations = 25;
     int double_iterations = 20;
     double representable = 0.05;     // rel-rms above this: the target is not representable
 };
@@ -49,13 +50,21 @@ class Problem {
 public:
     Problem(Runtime& rt, Domain domain, Material target, Precision precision = Precision::Precise);
     Evaluator& full() { return *full_; }
-    Evaluator& coarse(std::size_t samples);
+    // The domain's first `samples` samples (all of them when there are fewer) and the target there: the
+    // quasi-random points' prefixes are themselves evenly spread.
+    struct Prefix {
+        Evaluator* ev = nullptr;
+        const std::vector<double>* target = nullptr;
+    };
+    Prefix prefix(std::size_t samples);
     // The limb-check sub-problem (NoL, NoV >= c) and the indices of its samples in the full domain.
     Problem& grazing(double c);
     const std::vector<std::size_t>& grazing_indices() const { return grazing_kept_; }
     const std::vector<double>& target() const { return target_; }         // 3 planes of full().size()
-    const std::vector<double>& coarse_target() const { return coarse_target_; }
     const Material& target_material() const { return target_m_; }
+    // Model evaluations so far on every evaluator of the problem (full, coarse, limb check).
+    std::size_t kernel_evaluations() const;
+    std::size_t reference_evaluations() const;
     // Observer passed to every evaluator (tests).
     void set_observer(std::function<void(const std::string&, const std::vector<double>&)> f);
 
@@ -63,8 +72,13 @@ private:
     Runtime& rt_;
     Precision precision_;
     Material target_m_;
-    std::unique_ptr<Evaluator> full_, coarse_;
-    std::vector<double> target_, coarse_target_;
+    std::unique_ptr<Evaluator> full_;
+    std::vector<double> target_;
+    struct Owned {
+        std::unique_ptr<Evaluator> ev;
+        std::vector<double> target;
+    };
+    std::map<std::size_t, Owned> prefixes_;
     std::unique_ptr<Problem> grazing_;
     double grazing_c_ = -1.0;
     std::vector<std::size_t> grazing_kept_;

@@ -78,6 +78,7 @@ std::string to_text(const FitResult& r) {
     for (const auto& p : r.params) {
         s << "  " << std::left << std::setw(14) << p.name << std::right << " = " << std::setw(14) << num(p.value, 9);
         if (p.fixed) s << "   (held fixed)";
+        else if (p.integer) s << "   (whole number: every value searched)";
         else if (p.se_known) s << "   +- " << num(p.se, 3);
         else s << "   +- (undetermined)";
         s << "   range [" << num(p.lo, 6) << ", " << num(p.hi, 6) << "]\n";

@@ -240,14 +240,17 @@ Shader::DeviceSamples Shader::upload_samples(const std::vector<float>& N, const 
 }
 
 std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples& d,
-                                      const std::vector<ModelConsts>& consts, Precision precision, double* kernel_ms) {
+                                      const std::vector<ModelConsts>& consts, Precision precision, double* kernel_ms,
+                                      int planes) {
+    if (planes != 1 && planes != 3) throw Error("eval_batch: planes must be 1 or 3");
     const ModelInfo& info = find_model(shape.model);
     const std::size_t per_set = 1 + std::size_t(info.children);
     if (consts.empty() || consts.size() % per_set != 0)
         throw Error("eval_batch: " + std::to_string(consts.size()) + " constant blocks is not a whole number of sets of " +
                     std::to_string(per_set) + " for model '" + shape.model + "'");
     const std::size_t sets = consts.size() / per_set;
-    std::vector<float> out(3 * d.n * sets);
+    const std::size_t np = std::size_t(planes);
+    std::vector<float> out(np * d.n * sets);
     if (kernel_ms) *kernel_ms = 0.0;
     try {
         // The same defines as Shader::shade with one directional light: one program serves both.
@@ -263,8 +266,12 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
         const std::size_t by_out = std::max<std::size_t>(1, (std::size_t(64) << 20) / (3 * d.stride * sizeof(float)));
         const std::size_t chunk = std::min({sets, by_const, by_out});
         const std::size_t plane_bytes = d.stride * sizeof(float);
-        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, 3 * chunk * plane_bytes);
-        std::vector<float> host(3 * chunk * d.stride);
+        if (batch_out_bytes_ < 3 * chunk * plane_bytes) {
+            batch_out_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY, 3 * chunk * plane_bytes);
+            batch_out_bytes_ = 3 * chunk * plane_bytes;
+        }
+        cl::Buffer& bout = batch_out_;
+        std::vector<float> host(d.stride == d.n ? 0 : 3 * chunk * d.stride);
         for (std::size_t s0 = 0; s0 < sets; s0 += chunk) {
             const std::size_t ns = std::min(chunk, sets - s0);
             cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, ns * per_set * sizeof(ModelConsts),
@@ -276,11 +283,19 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
             k.setArg(4, bconsts);
             cl::Event ev;
             q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(d.stride, ns), cl::NDRange(kLocalSize, 1), nullptr, &ev);
-            q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, host.data());
+            if (d.stride == d.n && np == 3) {   // the layouts agree: straight into `out`
+                q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, out.data() + 3 * s0 * d.n);
+            } else if (d.stride == d.n) {       // the red plane of each set
+                for (std::size_t s = 0; s < ns; ++s)
+                    q.enqueueReadBuffer(bout, CL_FALSE, 3 * s * plane_bytes, plane_bytes, out.data() + (s0 + s) * d.n);
+                q.finish();
+            } else {
+                q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, host.data());
+                for (std::size_t s = 0; s < ns; ++s)
+                    for (std::size_t c = 0; c < np; ++c)
+                        std::copy_n(host.begin() + (3 * s + c) * d.stride, d.n, out.begin() + (np * (s0 + s) + c) * d.n);
+            }
             if (kernel_ms) *kernel_ms += ms_between(ev);
-            for (std::size_t s = 0; s < ns; ++s)
-                for (int c = 0; c < 3; ++c)
-                    std::copy_n(host.begin() + (3 * s + c) * d.stride, d.n, out.begin() + (3 * (s0 + s) + c) * d.n);
         }
     } catch (const cl::Error& e) {
         rethrow_cl(e, "evaluating model '" + shape.model + "' for " + std::to_string(sets) + " parameter sets on " +
