@@ -63,9 +63,14 @@ std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool 
       << "set yrange [" << gp_number(ylo / 10.0) << ":" << gp_number(yhi * 30.0) << "]\n"
       << "unset label\n";
     int lab = 1;
+    // The target itself (fitted to itself, so it is among the rows) is marked.
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        if (rows[i].is_target)
+            s << "set label " << lab++ << " 'target' at " << gp_number(pts[i].speed, 9) << "," << gp_number(pts[i].error, 9)
+              << " offset 0,-1.2 center font 'sans,9' tc rgb '#208020' front\n";
     for (std::size_t i : order)
         s << "set label " << lab++ << " " << gp_string(rows[i].fit.model) << " at " << gp_number(pts[i].speed, 9) << ","
-          << gp_number(pts[i].error * 1.6, 9) << " center noenhanced font 'sans,8' tc rgb '#a00000' front\n";
+          << gp_number(pts[i].error, 9) << " offset 0,1.0 center noenhanced font 'sans,8' tc rgb '#a00000' front\n";
     const std::string block = model_error ? "$front_model" : "$front_numeric";
     s << block << " << EOD\nx,y\n";
     for (std::size_t i : order) s << gp_number(pts[i].speed, 9) << "," << gp_number(pts[i].error, 9) << "\n";
@@ -131,6 +136,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         const auto a = clock::now();
         row.fit = fit_model(problem, shape, {}, o.fit);
         row.fit.note = note;
+        row.is_target = models[q] == target.model;
         // The numeric error of the fitted model itself: its float kernel against its double reference.
         {
             Evaluator& ev = problem.full();
@@ -217,10 +223,9 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         out.files.push_back(csv);
         std::ostringstream s;
         s << moon::gnuplot_preamble(png, 1800, 820, 11);
-        s << "set multiplot layout 1,2 title "
-          << moon::gp_string("Every catalogue model fitted to " + out.target + " on the " + out.domain + " (" +
-                             std::to_string(problem.full().size()) + " samples); speed on " + out.device)
-          << " font 'sans,13'\n";
+        s << "set multiplot layout 1,2 title \"" << "Every catalogue model fitted to " << out.target << " on the "
+          << out.domain << " (" << problem.full().size() << " samples)\\nspeed: shading kernel on " << out.device
+          << "\" noenhanced font 'sans,13'\n";
         s << panel(csv, out.rows, true, "model error against speed (the target: " + num(out.target_mfrag_per_s) +
                                             " Mfrag/s; < 1e-9 drawn at 1e-9)");
         s << panel(csv, out.rows, false, "numeric error of each fitted model (float kernel vs its double reference)");

@@ -27,6 +27,7 @@ struct AllRow {
     double speedup = 0.0;         // mfrag_per_s / the target's
     double numeric_rel_rms = 0.0; // float kernel against its own double reference at the fitted parameters
     bool front = false;           // on the Pareto front of speed against model error
+    bool is_target = false;       // the target's own model (fitted to itself)
 };
 
 struct AllResult {

@@ -473,19 +473,27 @@ Point search(Problem& problem, const ModelShape& shape, const Space& sp, const s
         }
     }
     Point best;
+    std::vector<Point> candidates = starts;   // the starts themselves too: the float LM may drift off an exact start
     for (Point p : starts) {
         // Over 4 parameters (each iteration a batch of 2d sets) fewer float iterations.
         const int iters = sp.free_c.size() > 4 ? std::min(o.float_iterations, 15) : o.float_iterations;
         if (!start || float_only) p = levenberg_marquardt(Fk, mid.target->data(), nm, sp, p, 1e-3, iters, 3, tt_mid, true);
         if (p.ssr < best.ssr || best.x.empty()) best = p;
+        candidates.push_back(p);
     }
     if (float_only) return best;
-    // Polish in double: the scale and error from the references, then LM with small steps.
+    // Polish in double: the best of the candidates by the references' error, then LM with small steps.
     {
-        const auto f = Fr({best.x})[0];
-        const Scaled s = best_scale(f, t_full.data(), n);
-        best.a = s.a;
-        best.ssr = s.ssr;
+        const auto fv = Fr([&] {
+            std::vector<std::vector<double>> xs;
+            for (const auto& c : candidates) xs.push_back(c.x);
+            return xs;
+        }());
+        best = Point{};
+        for (std::size_t q = 0; q < candidates.size(); ++q) {
+            const Scaled s = best_scale(fv[q], t_full.data(), n);
+            if (s.ssr < best.ssr || best.x.empty()) best = Point{candidates[q].x, s.a, s.ssr};
+        }
     }
     const int polish = sp.free_c.size() > 4 ? std::min(o.double_iterations, 3) : o.double_iterations;
     best = levenberg_marquardt(Fr, t_full.data(), n, sp, best, 1e-7, polish, 1, tt, false);
@@ -795,9 +803,9 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
             const bool outward = lower ? g > 0.0 : g < 0.0;
             add("at_limit", p.name + " is at the " + (lower ? "lower" : "upper") + " limit of its range (" +
                                 num(lower ? p.lo : p.hi) + ")" +
-                                (outward && rel_rms > 1e-9 ? ": the error would fall further beyond it"
+                                (outward && rel_rms > 1e-8 ? ": the error would fall further beyond it"
                                                            : ", where the fit is best"),
-                outward && rel_rms > 1e-9);
+                outward && rel_rms > 1e-8);
         }
         for (double du : {-0.05, 0.05}) {
             const double uu = std::clamp(u + du, 0.0, 1.0);
