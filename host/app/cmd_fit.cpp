@@ -9,6 +9,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "fit/all.hpp"
+#include "fit/atlas.hpp"
 #include "fit/fit.hpp"
 #include "fit/report.hpp"
 #include "models/catalogue.hpp"
@@ -40,6 +41,7 @@ struct FitArgs {
     bool no_limb_check = false;
     std::string precision = "precise";
     std::vector<std::string> models;   // --all: a subset
+    std::string atlas;                 // --atlas DOCS: write the fidelity atlas
 };
 
 std::map<std::string, double> params_of(const std::vector<std::string>& ps) {
@@ -52,6 +54,15 @@ std::map<std::string, double> params_of(const std::vector<std::string>& ps) {
 }
 
 void run_fit(const FitArgs& a) {
+    if (!a.atlas.empty()) {
+        Runtime rt;
+        fit::AtlasOptions o;
+        o.docs_dir = a.atlas;
+        o.seed = a.seed;
+        o.samples = a.samples;
+        for (const auto& f : fit::write_atlas(rt, o, std::cerr)) std::cout << f << "\n";
+        return;
+    }
     if (a.target.empty()) throw Error("give the target model with --target MODEL (shadelab models lists them)");
     if (a.all == !a.model.empty())
         throw Error(a.all ? "--all fits every model: drop --model" : "give the model to fit with --model MODEL, or --all");
@@ -136,6 +147,7 @@ void add_fit_command(CLI::App& app) {
     cmd->add_option("--specular", a->specular, "Grey specular colour of the target and the fitted model")
         ->capture_default_str();
     cmd->add_option("--model-specular", a->model_specular, "Grey specular colour of the fitted model alone");
+    cmd->add_option("--atlas", a->atlas, "Write the fidelity atlas (fidelity.md, data/fidelity, images/fidelity) into DOCS");
     cmd->add_flag("--no-limb-check", a->no_limb_check, "Skip the refit over NoL, NoV >= 0.05");
     cmd->add_option("--precision", a->precision, "Kernel precision mode for the search: precise or fast")
         ->capture_default_str();
