@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -339,4 +340,64 @@ TEST_CASE("fit: the JSON holds the contract's keys; --all writes results with sp
     CHECK(ja.at("results")[0].at("error").at("rel-rms").get<double>() <= 1e-12);
     CHECK(std::filesystem::exists(std::filesystem::path(o.out_dir) / "fit_all.csv"));
     CHECK(std::filesystem::file_size(std::filesystem::path(o.out_dir) / "fit_all.png") > 1000);
+}
+
+namespace {
+// Rows of a CSV written by moon::CsvTable (no quoting: it writes no commas inside fields).
+std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::map<std::string, std::string>> rows;
+    std::string line;
+    std::vector<std::string> head;
+    auto split = [](const std::string& l) {
+        std::vector<std::string> v;
+        std::stringstream s(l);
+        std::string f;
+        while (std::getline(s, f, ',')) v.push_back(f);
+        if (!l.empty() && l.back() == ',') v.push_back("");
+        return v;
+    };
+    if (std::getline(in, line)) head = split(line);
+    while (std::getline(in, line)) {
+        const auto f = split(line);
+        std::map<std::string, std::string> r;
+        for (std::size_t i = 0; i < head.size() && i < f.size(); ++i) r[head[i]] = f[i];
+        rows.push_back(r);
+    }
+    return rows;
+}
+}  // namespace
+
+TEST_CASE("fit: the fidelity atlas in the docs matches what the fit computes today", "[modelfit]") {
+    const std::string dir = std::string(SHADELAB_SOURCE_DIR) + "/docs/data/fidelity/";
+    // The exact maps between Minnaert parameterisations, recovered to 1e-6 where they are exact.
+    const auto maps = read_csv(dir + "minnaert_maps.csv");
+    REQUIRE(maps.size() >= 5);
+    int exact = 0;
+    for (const auto& r : maps) {
+        const bool clipped = r.at("target") == "minnaert_unity" && std::stod(r.at("target_value")) < 0.0;
+        const bool clamped = r.at("target") == "minnaert_blender" && r.at("domain") == "hemisphere";
+        if (clipped || clamped) {
+            CHECK(std::stod(r.at("rel_rms")) > 1e-3);   // where the map is not exact the atlas shows its cost
+            continue;
+        }
+        INFO(r.at("target") << " -> " << r.at("model"));
+        CHECK(std::stod(r.at("abs_difference")) <= 1e-6);
+        CHECK(std::stod(r.at("rel_rms")) <= 1e-12);
+        ++exact;
+    }
+    CHECK(exact >= 5);
+    // One row of the Minnaert-against-Oren-Nayar table refitted now, on the atlas's domain (65536 samples, seed 1).
+    const auto rows = read_csv(dir + "minnaert_vs_oren_nayar.csv");
+    bool found = false;
+    for (const auto& r : rows) {
+        if (r.at("model") != "minnaert_1941" || std::abs(std::stod(r.at("sigma")) - 0.4) > 1e-9) continue;
+        found = true;
+        fit::FitOptions o;
+        o.limb_check = false;
+        const fit::FitResult f = fit_to(target_of("oren_nayar", {{"sigma", 0.4}}), "minnaert_1941", hemisphere(65536, 1), o);
+        CHECK(std::abs(param(f, "k") - std::stod(r.at("value"))) <= 1e-5);
+        CHECK(std::abs(f.error.at("rel-rms") - std::stod(r.at("rel_rms"))) <= 1e-5);
+    }
+    CHECK(found);
 }

@@ -17,8 +17,8 @@ struct AllOptions {
     std::vector<std::string> models;        // empty: the whole catalogue
     double model_specular = -1.0;           // < 0: the target's
     std::string out_dir;                    // table and chart; empty: none written
-    std::size_t timed_fragments = std::size_t(1) << 19;
-    int timing_repeats = 2;
+    std::size_t timed_fragments = std::size_t(1) << 20;
+    int timing_repeats = 3;
 };
 
 struct AllRow {
@@ -44,7 +44,8 @@ struct AllResult {
 };
 
 // Kernel device time of `m`'s shading kernel (one directional light) on `fragments` fragments spread over a
-// lit sphere, best of `repeats`, in million fragments per second.
+// lit sphere, best of up to `repeats` runs (fewer once 150 ms of kernel time were spent: a slow model's single
+// run is long enough to time), in million fragments per second.
 double measure_mfrag_per_s(Runtime& rt, const Material& m, std::size_t fragments, int repeats);
 
 // Fits every model; progress lines go to `log`. Writes fit_all.csv and fit_all.png into out_dir when given.

@@ -1,5 +1,6 @@
 #include "fit/atlas.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -137,7 +138,7 @@ public:
         const glm::dvec3 N(0, 0, 1);
         std::vector<double> pt, pf;
         double tmax = 0.0;
-        const int G = 91;
+        const int G = 46;   // 2 deg steps
         for (int a = 0; a < G; ++a)
             for (int b = 0; b < 2 * G - 1; ++b) {
                 const double ti = 89.5 * a / (G - 1), tr = -89.5 + 179.0 * b / (2 * G - 2);
@@ -158,7 +159,7 @@ public:
         wrote(csv_plane);
         moon::CsvTable sphere({"x", "y", "target", "fit", "residual"});
         const glm::dvec3 V(0, 0, 1), L = glm::normalize(glm::dvec3(std::sin(60 * kPi / 180), 0.0, std::cos(60 * kPi / 180)));
-        const int S = 81;
+        const int S = 61;
         std::vector<std::array<double, 4>> cells;
         double smax = 0.0;
         for (int y = 0; y < S; ++y)

@@ -13,7 +13,7 @@ struct AtlasOptions {
     std::string docs_dir = "docs";   // fidelity.md goes here; data/fidelity and images/fidelity below it
     std::size_t samples = 65536;
     std::uint64_t seed = 1;
-    std::size_t timed_fragments = std::size_t(1) << 19;
+    std::size_t timed_fragments = std::size_t(1) << 20;
 };
 
 // Writes everything; returns the files written. Progress goes to `log`.

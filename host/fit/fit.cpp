@@ -533,6 +533,12 @@ std::size_t Problem::reference_evaluations() const {
     return s;
 }
 
+double Problem::kernel_ms() const {
+    double s = full_->kernel_ms() + (grazing_ ? grazing_->kernel_ms() : 0.0);
+    for (const auto& [_, o] : prefixes_) s += o.ev->kernel_ms();
+    return s;
+}
+
 Problem::Prefix Problem::prefix(std::size_t samples) {
     const std::size_t n = full_->size();
     if (samples >= n) return Prefix{full_.get(), &target_};

@@ -65,6 +65,7 @@ public:
     // Model evaluations so far on every evaluator of the problem (full, coarse, limb check).
     std::size_t kernel_evaluations() const;
     std::size_t reference_evaluations() const;
+    double kernel_ms() const;   // device time of those kernel evaluations
     // Observer passed to every evaluator (tests).
     void set_observer(std::function<void(const std::string&, const std::vector<double>&)> f);
 
