@@ -1,5 +1,6 @@
 // shadelab fit: fit one catalogue model to another (or every model, --all) over a domain, with the error that
 // remains, standard errors and diagnostics in words (host/fit/).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -66,10 +67,19 @@ void run_fit(const FitArgs& a) {
     if (a.target.empty()) throw Error("give the target model with --target MODEL (shadelab models lists them)");
     if (a.all == !a.model.empty())
         throw Error(a.all ? "--all fits every model: drop --model" : "give the model to fit with --model MODEL, or --all");
-    if (a.over != "hemisphere")
-        throw Error("--over '" + a.over + "': only the hemisphere domain is available in this version");
-    if (a.metric != "rel-rms")
-        throw Error("--metric '" + a.metric + "' is not available on the hemisphere: use rel-rms");
+    const bool scene = a.over != "hemisphere";
+    if (scene && (a.over.size() < 5 || a.over.substr(a.over.size() - 5) != ".json"))
+        throw Error("--over '" + a.over + "': give hemisphere or a scene file (.json); image domains are not available "
+                    "in this version");
+    const std::vector<std::string> metrics = scene ? std::vector<std::string>{"rel-rms", "de2000-mean", "de2000-p99", "de2000-max"}
+                                                   : std::vector<std::string>{"rel-rms"};
+    if (std::find(metrics.begin(), metrics.end(), a.metric) == metrics.end()) {
+        std::string list;
+        for (const auto& m : metrics) list += (list.empty() ? "" : ", ") + m;
+        throw Error("--metric '" + a.metric + "' is not available on this domain: use " + list);
+    }
+    if (scene && (a.phase >= 0.0 || a.at_normal || a.min_cos > 0.0))
+        throw Error("--phase, --at-normal and --min-cos restrict the hemisphere domain: drop them with --over SCENE.json");
     if (!(a.albedo > 0.0 && a.albedo <= 1.0)) throw Error("--albedo must be in (0, 1]");
     if (!(a.specular >= 0.0) || !std::isfinite(a.specular)) throw Error("--specular must be finite and >= 0");
     if (a.model_specular != -1.0 && (!(a.model_specular >= 0.0) || !std::isfinite(a.model_specular)))
@@ -97,7 +107,8 @@ void run_fit(const FitArgs& a) {
     Runtime rt;
     fit::FitOptions fo;
     fo.limb_check = !a.no_limb_check;
-    fit::Problem problem(rt, fit::hemisphere_domain(ho), target, parse_precision(a.precision));
+    fit::Problem problem(rt, scene ? fit::scene_domain(a.over, a.seed) : fit::hemisphere_domain(ho), target,
+                         parse_precision(a.precision));
     if (!a.all) {
         std::string note;
         const fit::ModelShape shape = fit::shape_for(a.model, target, a.model_specular, &note);
@@ -112,6 +123,7 @@ void run_fit(const FitArgs& a) {
     ao.models = a.models;
     ao.model_specular = a.model_specular;
     ao.out_dir = a.out_dir;
+    ao.metric = a.metric;
     const fit::AllResult all = fit::fit_all(rt, problem, ao, std::cerr);
     std::cout << fit::all_table_text(all);
     if (!a.json.empty()) write_text_atomically(a.json, "fit report", fit::to_json(all).dump(2) + "\n");
@@ -131,9 +143,13 @@ void add_fit_command(CLI::App& app) {
     cmd->add_option("--fix", a->fixed, "Hold a parameter of the fitted model at name=value (repeatable)");
     cmd->add_flag("--all", a->all, "Fit every model of the catalogue; table and chart in -o DIR");
     cmd->add_option("--models", a->models, "With --all: only these models, comma-separated")->delimiter(',');
-    cmd->add_option("--over", a->over, "Domain of the fit: hemisphere (N = +z, L and V uniform in solid angle)")
+    cmd->add_option("--over", a->over,
+                    "Domain of the fit: hemisphere (N = +z, L and V uniform in solid angle) or SCENE.json (the fragments "
+                    "the scene renders, with its lights)")
         ->capture_default_str();
-    cmd->add_option("--metric", a->metric, "Error metric minimised: rel-rms = sqrt(sum (fit - target)^2 / sum target^2)")
+    cmd->add_option("--metric", a->metric,
+                    "Error --all sorts by: rel-rms = sqrt(sum (fit - target)^2 / sum target^2); on a scene also "
+                    "de2000-mean, de2000-p99, de2000-max. The fit itself minimises rel-rms")
         ->capture_default_str();
     cmd->add_option("--json", a->json, "Write the result as JSON");
     cmd->add_option("-o,--out", a->out_dir, "Folder for --all's table (CSV) and chart (PNG)");

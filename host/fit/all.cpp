@@ -37,25 +37,26 @@ std::string params_text(const FitResult& f) {
 constexpr double kErrorFloor = 1e-9;
 
 // One panel: error column `col` against speed, every model a point, the front a line with its members labelled.
-std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool model_error, const std::string& title) {
+std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool model_error, const std::string& title,
+                  const std::string& metric) {
     using moon::gp_number;
     using moon::gp_string;
     std::vector<speed::ParetoPoint> pts;
     std::vector<bool> on;
     double xlo = 1e300, xhi = 0, ylo = 1e300, yhi = 0;
     for (const auto& r : rows) {
-        const double e = std::max(model_error ? r.fit.error.at("rel-rms") : r.numeric_rel_rms, kErrorFloor);
+        const double e = std::max(model_error ? r.fit.error.at(metric) : r.numeric_rel_rms, kErrorFloor);
         pts.push_back({r.mfrag_per_s, e});
         xlo = std::min(xlo, r.mfrag_per_s), xhi = std::max(xhi, r.mfrag_per_s);
         ylo = std::min(ylo, e), yhi = std::max(yhi, e);
     }
     on = speed::pareto_front(pts);
     const auto order = speed::front_in_speed_order(pts, on);
-    const std::string col = model_error ? "plot_rel_rms" : "plot_numeric_rel_rms";
+    const std::string col = model_error ? "plot_error" : "plot_numeric_rel_rms";
     std::ostringstream s;
     s << "set title " << gp_string(title) << "\n"
       << "set xlabel 'speed: million fragments per second on this device (log scale)'\n"
-      << "set ylabel " << gp_string(model_error ? "model error: rel-rms of the best fit against the target (log scale)"
+      << "set ylabel " << gp_string(model_error ? "model error: " + metric + " of the best fit against the target (log scale)"
                                                 : "numeric error: rel-rms of the float kernel against its own double "
                                                   "reference (log scale)")
       << "\nset logscale xy\nset format y '10^{%L}'\nset format x '%g'\nset key bottom right box opaque\n"
@@ -180,11 +181,15 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         time_s += std::chrono::duration<double>(clock::now() - a).count();
     }
     for (auto& r : out.rows) r.speedup = r.mfrag_per_s / out.target_mfrag_per_s;
+    out.metric = o.metric;
+    for (const auto& r : out.rows)
+        if (!r.fit.error.count(o.metric)) throw Error("--metric '" + o.metric + "' is not measured on this domain");
+    const std::string key = o.metric;
     std::stable_sort(out.rows.begin(), out.rows.end(),
-                     [](const AllRow& a, const AllRow& b) { return a.fit.error.at("rel-rms") < b.fit.error.at("rel-rms"); });
+                     [&](const AllRow& a, const AllRow& b) { return a.fit.error.at(key) < b.fit.error.at(key); });
     {
         std::vector<speed::ParetoPoint> pts;
-        for (const auto& r : out.rows) pts.push_back({r.mfrag_per_s, r.fit.error.at("rel-rms")});
+        for (const auto& r : out.rows) pts.push_back({r.mfrag_per_s, r.fit.error.at(key)});
         const auto on = speed::pareto_front(pts);
         for (std::size_t i = 0; i < out.rows.size(); ++i) out.rows[i].front = on[i];
     }
@@ -196,7 +201,8 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         const std::string png = (fs::path(o.out_dir) / "fit_all.png").string();
         moon::CsvTable t({"rank", "model", "family", "params", "albedo", "rel_rms", "rms", "max_abs", "rel_max",
                           "well_posed", "representable", "limb_sensitive", "mfrag_per_s", "speedup", "pareto_front",
-                          "numeric_rel_rms", "plot_rel_rms", "plot_numeric_rel_rms"});
+                          "numeric_rel_rms", "de2000_mean", "de2000_p99", "de2000_max", "plot_error",
+                          "plot_numeric_rel_rms"});
         for (std::size_t i = 0; i < out.rows.size(); ++i) {
             const AllRow& r = out.rows[i];
             const auto& e = r.fit.error;
@@ -216,8 +222,11 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
                 .add(r.mfrag_per_s, 6)
                 .add(r.speedup, 5)
                 .add(r.front ? 1.0 : 0.0)
-                .add(r.numeric_rel_rms, 4)
-                .add(std::max(e.at("rel-rms"), kErrorFloor), 6)
+                .add(r.numeric_rel_rms, 4);
+            for (const char* m : {"de2000-mean", "de2000-p99", "de2000-max"})
+                if (e.count(m)) t.add(e.at(m), 5);
+                else t.blank();
+            t.add(std::max(e.at(key), kErrorFloor), 6)
                 .add(std::max(r.numeric_rel_rms, kErrorFloor), 4);
         }
         t.write(csv);
@@ -228,8 +237,8 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
           << out.domain << " (" << problem.full().size() << " samples)\\nspeed: shading kernel on " << out.device
           << "\" noenhanced font 'sans,13'\n";
         s << panel(csv, out.rows, true, "model error against speed (the target: " + num(out.target_mfrag_per_s) +
-                                            " Mfrag/s; < 1e-9 drawn at 1e-9)");
-        s << panel(csv, out.rows, false, "numeric error of each fitted model (float kernel vs its double reference)");
+                                            " Mfrag/s; < 1e-9 drawn at 1e-9)", key);
+        s << panel(csv, out.rows, false, "numeric error of each fitted model (float kernel vs its double reference)", key);
         s << "unset multiplot\n";
         moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
         out.files.push_back(png);
@@ -243,12 +252,12 @@ std::string all_table_text(const AllResult& r) {
     s << "every model fitted to " << r.target << "\n  domain: " << r.domain_description << "\n  speed: shading kernel, "
       << r.timed_fragments << " fragments, best of runs, on " << r.device << "; the target runs "
       << num(r.target_mfrag_per_s) << " Mfrag/s\n";
-    s << "  " << std::left << std::setw(5) << "rank" << std::setw(30) << "model" << std::right << std::setw(11) << "rel-rms"
+    s << "  " << std::left << std::setw(5) << "rank" << std::setw(30) << "model" << std::right << std::setw(11) << r.metric
       << std::setw(10) << "Mfrag/s" << std::setw(9) << "speedup" << "  front  " << std::left << "parameters (albedo)\n";
     for (std::size_t i = 0; i < r.rows.size(); ++i) {
         const AllRow& a = r.rows[i];
         s << "  " << std::left << std::setw(5) << (i + 1) << std::setw(30) << a.fit.model << std::right << std::setw(11)
-          << num(a.fit.error.at("rel-rms"), 3) << std::setw(10) << num(a.mfrag_per_s, 4) << std::setw(9)
+          << num(a.fit.error.at(r.metric), 3) << std::setw(10) << num(a.mfrag_per_s, 4) << std::setw(9)
           << num(a.speedup, 3) << (a.front ? "    *    " : "         ") << params_text(a.fit)
           << (a.fit.params.empty() ? "" : " ") << "(" << num(a.fit.albedo, 5) << ")"
           << (a.fit.well_posed ? "" : " [ill-posed]") << (a.fit.limb.sensitive ? " [limb]" : "") << "\n";

@@ -17,6 +17,7 @@ struct AllOptions {
     std::vector<std::string> models;        // empty: the whole catalogue
     double model_specular = -1.0;           // < 0: the target's
     std::string out_dir;                    // table and chart; empty: none written
+    std::string metric = "rel-rms";         // the error the table is sorted by and the chart plots
     std::size_t timed_fragments = std::size_t(1) << 20;
     int timing_repeats = 3;
 };
@@ -38,7 +39,8 @@ struct AllResult {
     std::string domain, domain_description;
     std::string device;
     std::size_t timed_fragments = 0;
-    std::vector<AllRow> rows;     // sorted by rel-rms, smallest first
+    std::string metric = "rel-rms";
+    std::vector<AllRow> rows;     // sorted by `metric`, smallest first
     std::vector<std::string> files;
     double seconds = 0.0, fit_seconds = 0.0, timing_seconds = 0.0;
 };

@@ -1,11 +1,16 @@
 #include "fit/domain.hpp"
 
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <random>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "mesh/mesh.hpp"
+#include "raster/raster.hpp"
+#include "scene/scene.hpp"
 
 namespace shadelab::fit {
 
@@ -134,6 +139,105 @@ Domain grazing_cut(const Domain& d, double c, std::vector<std::size_t>* kept) {
     }
     out.description = std::to_string(out.size()) + " of the " + std::to_string(d.size()) + " samples with NoL, NoV >= " + num(c);
     return out;
+}
+
+std::vector<double> Domain::combine(const double* v, double albedo) const {
+    if (!grouped()) return std::vector<double>(v, v + size());
+    const std::size_t F = size() / per_group;
+    std::vector<double> out(3 * F);
+    for (std::size_t f = 0; f < F; ++f)
+        for (int c = 0; c < 3; ++c) {
+            double sum = ambient[c] * albedo;
+            for (std::size_t k = 0; k < per_group; ++k) sum += weight[f * per_group + k][c] * v[f * per_group + k];
+            out[3 * f + c] = sum;
+        }
+    return out;
+}
+
+Domain Domain::prefix(std::size_t samples) const {
+    Domain c;
+    c.name = name;
+    c.seed = seed;
+    c.per_group = per_group;
+    c.ambient = ambient;
+    const std::size_t n = std::min(size(), samples / per_group * per_group);
+    c.description = "the first " + std::to_string(n) + " of " + description;
+    c.N.assign(N.begin(), N.begin() + n);
+    c.L.assign(L.begin(), L.begin() + n);
+    c.V.assign(V.begin(), V.begin() + n);
+    c.P.assign(P.begin(), P.begin() + n);
+    if (grouped()) c.weight.assign(weight.begin(), weight.begin() + n);
+    return c;
+}
+
+Domain scene_domain(const std::string& file, std::uint64_t seed) {
+    const Scene s = load_scene(file);
+    if (s.lights.empty()) throw Error("scene '" + file + "' has no light: a fit over it needs at least one");
+    const SceneGeometry g = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
+    // Nearest fragment per pixel over all meshes (ties: the earlier mesh), as the batch renderer composes them.
+    const std::size_t npix = std::size_t(s.width) * std::size_t(s.height);
+    std::vector<FragmentBuffer> parts;
+    for (std::size_t m = 0; m < g.meshes.size(); ++m) {
+        RasterOptions ro;
+        ro.width = s.width;
+        ro.height = s.height;
+        ro.cull_backfaces = s.meshes[m].cull_backfaces;
+        parts.push_back(rasterize(g.meshes[m], g.camera, ro));
+    }
+    std::vector<float> best(npix, std::numeric_limits<float>::infinity());
+    std::vector<std::pair<std::size_t, std::size_t>> who(npix, {SIZE_MAX, 0});
+    for (std::size_t m = 0; m < parts.size(); ++m)
+        for (std::size_t i = 0; i < parts[m].size(); ++i) {
+            const std::size_t p = std::size_t(parts[m].pixel[i]);
+            if (parts[m].depth[i] < best[p]) best[p] = parts[m].depth[i], who[p] = {m, i};
+        }
+    std::vector<std::pair<std::size_t, std::size_t>> frags;
+    for (const auto& w : who)
+        if (w.first != SIZE_MAX) frags.push_back(w);
+    if (frags.empty()) throw Error("scene '" + file + "': its meshes cover no pixel from its camera: nothing to fit over");
+    std::mt19937_64 rng(seed);
+    std::shuffle(frags.begin(), frags.end(), rng);
+    Domain d;
+    d.seed = seed;
+    d.per_group = s.lights.size();
+    d.ambient = s.ambient;
+    const glm::dvec3 eye = g.camera.eye;
+    for (const auto& [m, i] : frags) {
+        const FragmentBuffer& f = parts[m];
+        const glm::dvec3 P(f.px[i], f.py[i], f.pz[i]);
+        glm::dvec3 N(f.nx[i], f.ny[i], f.nz[i]);
+        N = glm::length(N) > 0 ? glm::normalize(N) : glm::dvec3(0, 0, 1);
+        const glm::dvec3 V = glm::normalize(eye - P);
+        for (const Light& li : s.lights) {
+            glm::dvec3 L;
+            double atten = 1.0;
+            if (li.type == Light::Type::Directional) {
+                L = glm::normalize(li.vec);
+            } else {
+                // Inverse square, windowed by (1 - (d/range)^4)^2 when a range is given (Karis 2013), as the kernels.
+                const glm::dvec3 dl = li.vec - P;
+                const double d2 = std::max(glm::dot(dl, dl), 1e-12);
+                L = dl / std::sqrt(d2);
+                double window = 1.0;
+                if (li.range > 0.0) {
+                    const double q = d2 / (li.range * li.range);
+                    window = std::clamp(1.0 - q * q, 0.0, 1.0);
+                    window *= window;
+                }
+                atten = window / d2;
+            }
+            d.N.push_back(N);
+            d.L.push_back(L);
+            d.V.push_back(V);
+            d.P.push_back(P);
+            d.weight.push_back(li.colour * li.intensity * atten);
+        }
+    }
+    d.name = "scene " + file;
+    d.description = std::to_string(frags.size()) + " fragments of scene '" + file + "' (" + std::to_string(s.width) +
+                    "x" + std::to_string(s.height) + ", " + std::to_string(g.meshes.size()) + " meshes, " +
+                    std::to_string(s.lights.size()) + " lights), rendered colours compared per channel";
+    return d;
 }
 
 SampleAngles angles_of(const Domain& d, std::size_t i) {

@@ -22,6 +22,20 @@ struct Domain {
     std::size_t seed = 0;
     std::vector<glm::dvec3> N, L, V, P;
     std::size_t size() const { return N.size(); }
+
+    // Scene domains: the compared outputs are the rendered colours of fragments, each the sum over its
+    // `per_group` samples (one per light) of weight (light colour x intensity x attenuation, per channel) times
+    // the model's value, plus ambient x albedo; three outputs (r, g, b) per fragment, fragment after fragment.
+    // Empty `weight`: every output is one sample's value (the hemisphere).
+    std::vector<glm::dvec3> weight;
+    std::size_t per_group = 1;
+    glm::dvec3 ambient{0.0};
+    bool grouped() const { return !weight.empty(); }
+    std::size_t outputs() const { return grouped() ? 3 * (size() / per_group) : size(); }
+    // Outputs from the model's grey values at every sample (size() of them) and its grey albedo.
+    std::vector<double> combine(const double* values, double albedo) const;
+    // The first `samples` samples (whole groups) as a domain of their own.
+    Domain prefix(std::size_t samples) const;
 };
 
 struct HemisphereOptions {
@@ -39,6 +53,12 @@ Domain hemisphere_domain(const HemisphereOptions& o);
 
 // The samples of `d` with NoL >= c and NoV >= c (the limb check); `kept` gets their indices in `d`.
 Domain grazing_cut(const Domain& d, double c, std::vector<std::size_t>* kept = nullptr);
+
+// The fragments a scene file produces (its meshes, camera, size and lights, nearest surface per pixel as the
+// batch renderer composes them), in an order shuffled by `seed` (so that any prefix covers the whole image),
+// one sample per fragment and light. Throws shadelab::Error naming the file when it has no light or no
+// fragment.
+Domain scene_domain(const std::string& scene_file, std::uint64_t seed = 1);
 
 // Angles of sample i for reports, degrees: theta_i = angle(N, L), theta_r = angle(N, V), phase = angle(L, V),
 // dphi = azimuth difference of L and V about N (0 when either is along N).

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "color/color.hpp"
 #include "core/error.hpp"
 #include "reference/reference.hpp"
 
@@ -64,7 +65,14 @@ ValuesFn kernel_values(Evaluator& ev, const ModelShape& shape) {
         const std::size_t n = ev.size();
         const auto f = ev.kernel(shape, sets, 1);
         std::vector<std::vector<double>> out(sets.size());
-        for (std::size_t s = 0; s < sets.size(); ++s) out[s].assign(f.begin() + n * s, f.begin() + n * (s + 1));
+        for (std::size_t s = 0; s < sets.size(); ++s) {
+            if (std::isnan(f[n * s])) {   // a refused set
+                out[s].assign(ev.domain().outputs(), std::nan(""));
+                continue;
+            }
+            const std::vector<double> v(f.begin() + n * s, f.begin() + n * (s + 1));
+            out[s] = ev.domain().grouped() ? ev.domain().combine(v.data(), shape.albedo.x) : v;
+        }
         return out;
     };
 }
@@ -76,12 +84,12 @@ ValuesFn reference_values(Evaluator& ev, const ModelShape& shape) {
         for (const auto& x : sets) {
             const Material m = material_at(shape, x);
             if (!Evaluator::accepts(m)) {
-                out.emplace_back(n, std::nan(""));
+                out.emplace_back(ev.domain().outputs(), std::nan(""));
                 continue;
             }
             auto v = ev.reference(m);
             v.resize(n);
-            out.push_back(std::move(v));
+            out.push_back(ev.domain().grouped() ? ev.domain().combine(v.data(), shape.albedo.x) : std::move(v));
         }
         return out;
     };
@@ -440,7 +448,7 @@ Point search(Problem& problem, const ModelShape& shape, const Space& sp, const s
     const std::vector<double>& t_full = problem.target();
     const Problem::Prefix coarse = problem.prefix(o.coarse_samples),
                           mid = problem.prefix(float_only && sp.free_c.size() <= 4 ? full.size() : o.float_samples);
-    const std::size_t n = full.size(), nc = coarse.ev->size(), nm = mid.ev->size();
+    const std::size_t n = full.domain().outputs(), nc = coarse.ev->domain().outputs(), nm = mid.ev->domain().outputs();
     const double tt = sum_sq(t_full.data(), n), tt_mid = sum_sq(mid.target->data(), nm);
     const ValuesFn Fk = kernel_values(*mid.ev, shape), Fr = reference_values(full, shape);
     std::vector<Point> starts;
@@ -511,7 +519,8 @@ Point search(Problem& problem, const ModelShape& shape, const Space& sp, const s
 Problem::Problem(Runtime& rt, Domain domain, Material target, Precision precision)
     : rt_(rt), precision_(precision), target_m_(resolve_material(target, "fit target")) {
     full_ = std::make_unique<Evaluator>(rt_, std::move(domain), precision_);
-    target_ = full_->reference(target_m_);
+    const auto v = full_->reference(target_m_);   // 3 planes; grey: the first
+    target_ = full_->domain().combine(v.data(), target_m_.albedo.x);
 }
 
 void Problem::set_observer(std::function<void(const std::string&, const std::vector<double>&)> f) {
@@ -540,25 +549,15 @@ double Problem::kernel_ms() const {
 }
 
 Problem::Prefix Problem::prefix(std::size_t samples) {
-    const std::size_t n = full_->size();
-    if (samples >= n) return Prefix{full_.get(), &target_};
+    const std::size_t pg = full_->domain().per_group;
+    samples = samples / pg * pg;
+    if (samples >= full_->size() || samples == 0) return Prefix{full_.get(), &target_};
     auto it = prefixes_.find(samples);
     if (it == prefixes_.end()) {
-        const Domain& d = full_->domain();
-        Domain c;
-        c.name = d.name;
-        c.seed = d.seed;
-        c.description = "the first " + std::to_string(samples) + " of " + d.description;
-        c.N.assign(d.N.begin(), d.N.begin() + samples);
-        c.L.assign(d.L.begin(), d.L.begin() + samples);
-        c.V.assign(d.V.begin(), d.V.begin() + samples);
-        c.P.assign(d.P.begin(), d.P.begin() + samples);
         Owned o;
-        o.ev = std::make_unique<Evaluator>(rt_, std::move(c), precision_);
+        o.ev = std::make_unique<Evaluator>(rt_, full_->domain().prefix(samples), precision_);
         o.ev->observer = observer_;
-        o.target.assign(3 * samples, 0.0);
-        for (int ch = 0; ch < 3; ++ch)
-            std::copy_n(target_.begin() + ch * n, samples, o.target.begin() + ch * samples);
+        o.target.assign(target_.begin(), target_.begin() + o.ev->domain().outputs());   // outputs are fragment-major
         it = prefixes_.emplace(samples, std::move(o)).first;
     }
     return Prefix{it->second.ev.get(), &it->second.target};
@@ -615,7 +614,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     const auto t0 = clock::now();
     const ModelInfo& info = find_model(shape.model);
     Evaluator& full = problem.full();
-    const std::size_t n = full.size();
+    const std::size_t n = full.domain().outputs();
     const std::size_t k0 = problem.kernel_evaluations(), r0 = problem.reference_evaluations();
     const std::vector<double>& t = problem.target();
     const double tt = sum_sq(t.data(), n);
@@ -654,7 +653,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     r.target_params = problem.target_material().params;
     r.domain = full.domain().name;
     r.domain_description = full.domain().description;
-    r.samples = n;
+    r.samples = full.size();
     r.scale = best.a;
     r.albedo = best.a * shape.albedo.x;
     for (std::size_t j = 0; j < info.params.size(); ++j) {
@@ -681,7 +680,23 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     r.error["max-abs"] = max_abs;
     r.error["rel-max"] = max_t > 0.0 ? max_abs / max_t : 0.0;
     r.worst.index = worst;
-    r.worst.angles = angles_of(full.domain(), worst);
+    // Scene outputs are fragment channels: the angles of the fragment's first light.
+    r.worst.angles = angles_of(full.domain(), full.domain().grouped() ? worst / 3 * full.domain().per_group : worst);
+    if (full.domain().grouped()) {
+        // The rendered colours (linear sRGB) as CIE L*a*b*: Delta E 2000 per fragment.
+        std::vector<double> de;
+        for (std::size_t f = 0; f + 2 < n; f += 3) {
+            const glm::dvec3 tc(t[f], t[f + 1], t[f + 2]), fc(best.a * fbest[f], best.a * fbest[f + 1], best.a * fbest[f + 2]);
+            const double e = delta_e2000(lab_from_linear_srgb(glm::max(tc, 0.0)), lab_from_linear_srgb(glm::max(fc, 0.0)));
+            de.push_back(std::isfinite(e) ? e : 0.0);
+        }
+        std::sort(de.begin(), de.end());
+        double sum = 0.0;
+        for (double e : de) sum += e;
+        r.error["de2000-mean"] = de.empty() ? 0.0 : sum / double(de.size());
+        r.error["de2000-p99"] = de.empty() ? 0.0 : de[std::min(de.size() - 1, std::size_t(0.99 * double(de.size())))];
+        r.error["de2000-max"] = de.empty() ? 0.0 : de.back();
+    }
     r.worst.target = t[worst];
     r.worst.fit = best.a * fbest[worst];
 
@@ -859,7 +874,8 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
                          "same effect on this domain, so no standard errors");
 
     // Limb check: the share of the squared residual carried by near-grazing samples, and a refit without them.
-    if (o.limb_check && !(sp.free_c.empty() && sp.free_i.empty()) && rel_rms > 1e-9) {
+    // (Not on scene domains: their outputs sum several lights, so a sample cut would split fragments.)
+    if (o.limb_check && !full.domain().grouped() && !(sp.free_c.empty() && sp.free_i.empty()) && rel_rms > 1e-9) {
         LimbCheck& lc = r.limb;
         lc.cos_min = o.limb_cos;
         Problem& g = problem.grazing(o.limb_cos);
