@@ -14,6 +14,7 @@
 #include "fit/fit.hpp"
 #include "fit/report.hpp"
 #include "reference/reference.hpp"
+#include "scene/scene.hpp"
 #include "speed/pareto.hpp"
 #include "support.hpp"
 
@@ -400,4 +401,41 @@ TEST_CASE("fit: the fidelity atlas in the docs matches what the fit computes tod
         CHECK(std::abs(f.error.at("rel-rms") - std::stod(r.at("rel_rms"))) <= 1e-5);
     }
     CHECK(found);
+}
+
+TEST_CASE("fit over a scene: the rendered colours of its fragments, recomputed with the reference's own light sum",
+          "[modelfit]") {
+    const std::string file = test::kScenes + "/lights.json";   // a directional and two point lights, ambient
+    const Scene scene = load_scene(file);
+    const fit::Domain d = fit::scene_domain(file, 3);
+    REQUIRE(d.grouped());
+    REQUIRE(d.per_group == scene.lights.size());
+    const Material t = target_of("oren_nayar", {{"sigma", 0.5}});
+    fit::Problem p(test::runtime(), d, t);
+    const fit::FitResult r = fit::fit_model(p, fit::shape_for("minnaert_1941", t, -1.0, nullptr));
+    INFO(fit::to_text(r));
+    for (const char* m : {"rel-rms", "de2000-mean", "de2000-p99", "de2000-max"}) {
+        REQUIRE(r.error.count(m));
+        CHECK(std::isfinite(r.error.at(m)));
+    }
+    CHECK(r.error.at("de2000-mean") > 0.0);
+    CHECK(r.error.at("de2000-p99") >= r.error.at("de2000-mean"));
+    CHECK(r.error.at("de2000-max") >= r.error.at("de2000-p99"));
+    // ref::shade_point sums the lights (with its own attenuation) and the ambient term for each fragment.
+    Material fm;
+    fm.model = "minnaert_1941";
+    fm.albedo = glm::dvec3(r.albedo);
+    fm.params["k"] = param(r, "k");
+    fm = resolve_material(fm);
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < d.size(); i += d.per_group) {
+        const glm::dvec3 a = ref::shade_point(d.P[i], d.N[i], d.V[i], t, scene.lights, scene.ambient);
+        const glm::dvec3 b = ref::shade_point(d.P[i], d.N[i], d.V[i], fm, scene.lights, scene.ambient);
+        for (int c = 0; c < 3; ++c) num += (b[c] - a[c]) * (b[c] - a[c]), den += a[c] * a[c];
+    }
+    CHECK(std::abs(std::sqrt(num / den) - r.error.at("rel-rms")) <= 1e-9);
+    // Oren-Nayar's trig-free form is the same function on the scene too.
+    const fit::FitResult same = fit::fit_model(p, fit::shape_for("oren_nayar_st", t, -1.0, nullptr));
+    CHECK(std::abs(param(same, "sigma") - 0.5) <= 1e-6);
+    CHECK(same.error.at("de2000-max") <= 1e-6);
 }

@@ -5,8 +5,10 @@
 // (cos theta uniform in [0, 1], azimuth uniform), every output the shaded value of one sample for a unit light
 // (what the kernel returns, per channel). The points are a randomised quasi-random sequence: Halton in bases
 // 2, 3, 5, 7 shifted modulo 1 by a random vector drawn from the seed (Cranley & Patterson 1976), so each point
-// is uniform on the domain and the set covers it far more evenly than independent draws (fits stable to ~1e-4
-// across seeds at 16384 samples, where independent draws gave ~1e-3).
+// is uniform on the domain and the set covers it more evenly than independent draws; V's azimuth is L's plus a
+// coordinate of its own, so the azimuth difference (all an isotropic model sees) is low-discrepancy too.
+// Measured: minnaert_1941 fitted to oren_nayar sigma 0.4, k over seeds 1-4 spread by 2e-4 at 65536 samples
+// (the default) and 7e-4 at 16384 (tests/test_fit.cpp holds 1e-3 over three seeds).
 #pragma once
 #include <cstdint>
 #include <string>

@@ -12,9 +12,11 @@
 //  1. coarse: a grid (up to 3 parameters) or 2048 quasi-random points over the whole box, every integer value
 //     of a whole-number parameter (up to 512 of them), on the first 4096 samples, float kernel on PoCL, all
 //     sets in a few launches;
-//  2. bounded Levenberg-Marquardt from the best distinct starts, float kernel, central-difference Jacobians
-//     evaluated as one batch of parameter sets per iteration, trial steps for three damping values in one;
-//  3. polish: the same in double with the references, until the error stops falling;
+//  2. bounded Levenberg-Marquardt from the best 2 distinct starts, float kernel on the first 16384 samples,
+//     central-difference Jacobians evaluated as one batch of parameter sets per iteration, trial steps for three
+//     damping values in one (over 4 parameters: at most 15 iterations);
+//  3. polish on every sample in double with the references (forward differences), from the best of the
+//     starts and their refinements by the references' error, until the error stops falling;
 //  4. whole-number parameters: neighbours tried in double.
 // A step never leaves the box: every evaluated set lies within the declared ranges (Evaluator checks).
 //
