@@ -299,7 +299,7 @@ TEST_CASE("fit: fitted parameters are stable to 1e-3 across seeds of the default
     }
 }
 
-TEST_CASE("fit: the JSON holds the contract's keys; --all writes results with speeds, the table and the chart", "[modelfit]") {
+TEST_CASE("fit: the JSON holds the contract keys, and --all writes results with speeds, the table and the chart", "[modelfit]") {
     const Material t = target_of("oren_nayar", {{"sigma", 0.4}});
     fit::Problem p(test::runtime(), hemisphere(8192), t);
     const fit::FitResult r = fit::fit_model(p, fit::shape_for("minnaert_1941", t, -1.0, nullptr));

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <exception>
+#include <mutex>
 #include <thread>
 
 #include "core/error.hpp"
@@ -104,10 +106,19 @@ std::vector<double> Evaluator::reference(const Material& m) {
     const std::size_t n = size();
     std::vector<double> out(3 * n);
     const ref::ModelFn& f = ref::reference_for(m.model);
+    // A reference that throws (a combination it refuses) must not end the process from a worker thread: the
+    // first exception is kept and rethrown here.
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
     auto run = [&](std::size_t a, std::size_t b) {
-        for (std::size_t i = a; i < b; ++i) {
-            const glm::dvec3 v = f(domain_.N[i], domain_.L[i], domain_.V[i], domain_.P[i], m);
-            for (int c = 0; c < 3; ++c) out[c * n + i] = std::isfinite(v[c]) ? v[c] : 0.0;
+        try {
+            for (std::size_t i = a; i < b; ++i) {
+                const glm::dvec3 v = f(domain_.N[i], domain_.L[i], domain_.V[i], domain_.P[i], m);
+                for (int c = 0; c < 3; ++c) out[c * n + i] = std::isfinite(v[c]) ? v[c] : 0.0;
+            }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
         }
     };
     const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
@@ -122,6 +133,7 @@ std::vector<double> Evaluator::reference(const Material& m) {
         }
         for (auto& t : pool) t.join();
     }
+    if (failure) std::rethrow_exception(failure);
     reference_evals_ += n;
     return out;
 }

@@ -39,6 +39,7 @@ struct Axis {
         return std::clamp(v, lo, hi);
     }
     double u(double x) const {
+        if (!(hi > lo)) return 0.0;
         double v = 0.0;
         switch (kind) {
             case Linear: v = (x - lo) / (hi - lo); break;
@@ -87,7 +88,13 @@ ValuesFn reference_values(Evaluator& ev, const ModelShape& shape) {
                 out.emplace_back(ev.domain().outputs(), std::nan(""));
                 continue;
             }
-            auto v = ev.reference(m);
+            std::vector<double> v;
+            try {
+                v = ev.reference(m);
+            } catch (const Error&) {   // the reference refuses this combination: no value here
+                out.emplace_back(ev.domain().outputs(), std::nan(""));
+                continue;
+            }
             v.resize(n);
             out.push_back(ev.domain().grouped() ? ev.domain().combine(v.data(), shape.albedo.x) : std::move(v));
         }
@@ -632,6 +639,10 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
         const ParamSpec& p = info.params[j];
         sp.axes.emplace_back(p);
         auto it = fixed.find(p.name);
+        if (it == fixed.end() && !(p.hi > p.lo)) {   // a range of one value: nothing to fit
+            base.push_back(p.lo);
+            continue;
+        }
         if (it != fixed.end()) {
             const double v = it->second;
             if (!std::isfinite(v) || v < p.lo || v > p.hi || (p.integer && v != std::floor(v)))
