@@ -15,6 +15,8 @@
 #include "fit/report.hpp"
 #include "reference/reference.hpp"
 #include "scene/scene.hpp"
+#include "image/image.hpp"
+#include "moon/disc.hpp"
 #include "speed/pareto.hpp"
 #include "support.hpp"
 
@@ -438,4 +440,37 @@ TEST_CASE("fit over a scene: the rendered colours of its fragments, recomputed w
     const fit::FitResult same = fit::fit_model(p, fit::shape_for("oren_nayar_st", t, -1.0, nullptr));
     CHECK(std::abs(param(same, "sigma") - 0.5) <= 1e-6);
     CHECK(same.error.at("de2000-max") <= 1e-6);
+}
+
+TEST_CASE("fit over a disc image: the model a disc was rendered with comes back from its pixels", "[modelfit]") {
+    moon::DiscRenderOptions r;
+    r.width = r.height = 160;
+    r.disc = moon::Disc{80.0, 80.0, 72.0};   // what disc_image_domain assumes by default: centred, 0.45 of the side
+    Material m;
+    m.model = "oren_nayar";
+    m.params["sigma"] = 0.5;
+    m.albedo = glm::dvec3(0.3);
+    r.material = resolve_material(m);
+    r.sun = moon::sun_geometry(40.0, 250.0);
+    const std::string path = (test::scratch_dir("fit_disc") / "disc.exr").string();
+    write_image(path, moon::render_disc(test::runtime(), r));
+    fit::DiscImageOptions o;
+    o.image = path;
+    o.phase_deg = 40.0;
+    o.pa_deg = 250.0;
+    std::vector<double> values;
+    fit::Domain d = fit::disc_image_domain(o, values);
+    REQUIRE(d.size() == values.size());
+    fit::Problem p(test::runtime(), std::move(d), std::move(values), path);
+    const fit::FitResult f = fit::fit_model(p, fit::shape_for("oren_nayar_st", p.target_material(), -1.0, nullptr));
+    INFO(fit::to_text(f));
+    CHECK(f.target == path);
+    // The image holds float kernel values: the fit comes back to float rounding.
+    CHECK(std::abs(param(f, "sigma") - 0.5) <= 1e-5);
+    CHECK(std::abs(f.albedo - 0.3) <= 1e-5);
+    CHECK(f.error.at("rel-rms") <= 1e-6);
+    // A different law leaves a measured, finite error and its best k.
+    const fit::FitResult g = fit::fit_model(p, fit::shape_for("minnaert_1941", p.target_material(), -1.0, nullptr));
+    CHECK(g.error.at("rel-rms") > 0.01);
+    CHECK(std::isfinite(param(g, "k")));
 }

@@ -43,6 +43,9 @@ struct FitArgs {
     std::string precision = "precise";
     std::vector<std::string> models;   // --all: a subset
     std::string atlas;                 // --atlas DOCS: write the fidelity atlas
+    std::string centre;                // disc images: x,y in pixels
+    double radius = -1.0;
+    double pa = 0.0;
 };
 
 std::map<std::string, double> params_of(const std::vector<std::string>& ps) {
@@ -64,13 +67,22 @@ void run_fit(const FitArgs& a) {
         for (const auto& f : fit::write_atlas(rt, o, std::cerr)) std::cout << f << "\n";
         return;
     }
-    if (a.target.empty()) throw Error("give the target model with --target MODEL (shadelab models lists them)");
+    auto ends_with = [](const std::string& s, const std::string& e) {
+        return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+    };
+    const bool image = ends_with(a.over, ".png") || ends_with(a.over, ".exr") || ends_with(a.over, ".tif") ||
+                       ends_with(a.over, ".tiff") || ends_with(a.over, ".fits") || ends_with(a.over, ".fit");
+    if (image) {
+        if (!a.target.empty()) throw Error("--over " + a.over + ": the image is the target, drop --target");
+        if (a.phase < 0.0) throw Error("--over " + a.over + ": give the sun's --phase (degrees) and --pa of the disc image");
+    } else if (a.target.empty()) {
+        throw Error("give the target model with --target MODEL (shadelab models lists them)");
+    }
     if (a.all == !a.model.empty())
         throw Error(a.all ? "--all fits every model: drop --model" : "give the model to fit with --model MODEL, or --all");
-    const bool scene = a.over != "hemisphere";
-    if (scene && (a.over.size() < 5 || a.over.substr(a.over.size() - 5) != ".json"))
-        throw Error("--over '" + a.over + "': give hemisphere or a scene file (.json); image domains are not available "
-                    "in this version");
+    const bool scene = a.over != "hemisphere" && !image;
+    if (scene && !ends_with(a.over, ".json"))
+        throw Error("--over '" + a.over + "': give hemisphere, a scene file (.json) or a disc image (.png .exr .tif .fits)");
     const std::vector<std::string> metrics = scene ? std::vector<std::string>{"rel-rms", "de2000-mean", "de2000-p99", "de2000-max"}
                                                    : std::vector<std::string>{"rel-rms"};
     if (std::find(metrics.begin(), metrics.end(), a.metric) == metrics.end()) {
@@ -78,6 +90,8 @@ void run_fit(const FitArgs& a) {
         for (const auto& m : metrics) list += (list.empty() ? "" : ", ") + m;
         throw Error("--metric '" + a.metric + "' is not available on this domain: use " + list);
     }
+    if (image && (a.at_normal || a.min_cos > 0.0))
+        throw Error("--at-normal and --min-cos restrict the hemisphere domain: drop them with a disc image");
     if (scene && (a.phase >= 0.0 || a.at_normal || a.min_cos > 0.0))
         throw Error("--phase, --at-normal and --min-cos restrict the hemisphere domain: drop them with --over SCENE.json");
     if (!(a.albedo > 0.0 && a.albedo <= 1.0)) throw Error("--albedo must be in (0, 1]");
@@ -85,7 +99,28 @@ void run_fit(const FitArgs& a) {
     if (a.model_specular != -1.0 && (!(a.model_specular >= 0.0) || !std::isfinite(a.model_specular)))
         throw Error("--model-specular must be finite and >= 0");
     if (a.all && a.out_dir.empty()) throw Error("--all writes a table and a chart: give the folder with -o DIR");
+    Runtime rt;
+    std::unique_ptr<fit::Problem> problem_ptr;
     Material target;
+    if (image) {
+        fit::DiscImageOptions io;
+        io.image = a.over;
+        if (!a.centre.empty()) {
+            const glm::dvec3 c = parse_vec3(a.centre + ",0", "--centre");
+            io.cx = c.x;
+            io.cy = c.y;
+        }
+        io.radius = a.radius;
+        io.phase_deg = a.phase;
+        io.pa_deg = a.pa;
+        std::vector<double> values;
+        fit::Domain d = fit::disc_image_domain(io, values);
+        problem_ptr = std::make_unique<fit::Problem>(rt, std::move(d), std::move(values), a.over, parse_precision(a.precision));
+        target = problem_ptr->target_material();
+        target.albedo = glm::dvec3(a.albedo);
+        target.specular = glm::dvec3(a.specular);
+    }
+    if (!image) {
     target.model = a.target;
     target.params = params_of(a.target_params);
     target.albedo = glm::dvec3(a.albedo);
@@ -94,6 +129,7 @@ void run_fit(const FitArgs& a) {
     add_demo_children(target, tinfo);
     for (auto& c : target.children) c.albedo = glm::dvec3(1.0);
     target = resolve_material(target, "--target " + a.target);
+    }
     const auto fixed = params_of(a.fixed);
     if (!a.model.empty()) find_model(a.model);
 
@@ -104,11 +140,12 @@ void run_fit(const FitArgs& a) {
     ho.phase_deg = a.phase;
     ho.at_normal = a.at_normal;
     ho.min_cos = a.min_cos;
-    Runtime rt;
     fit::FitOptions fo;
     fo.limb_check = !a.no_limb_check;
-    fit::Problem problem(rt, scene ? fit::scene_domain(a.over, a.seed) : fit::hemisphere_domain(ho), target,
-                         parse_precision(a.precision));
+    if (!problem_ptr)
+        problem_ptr = std::make_unique<fit::Problem>(rt, scene ? fit::scene_domain(a.over, a.seed) : fit::hemisphere_domain(ho),
+                                                     target, parse_precision(a.precision));
+    fit::Problem& problem = *problem_ptr;
     if (!a.all) {
         std::string note;
         const fit::ModelShape shape = fit::shape_for(a.model, target, a.model_specular, &note);
@@ -144,8 +181,9 @@ void add_fit_command(CLI::App& app) {
     cmd->add_flag("--all", a->all, "Fit every model of the catalogue; table and chart in -o DIR");
     cmd->add_option("--models", a->models, "With --all: only these models, comma-separated")->delimiter(',');
     cmd->add_option("--over", a->over,
-                    "Domain of the fit: hemisphere (N = +z, L and V uniform in solid angle) or SCENE.json (the fragments "
-                    "the scene renders, with its lights)")
+                    "Domain of the fit: hemisphere (N = +z, L and V uniform in solid angle), SCENE.json (the fragments "
+                    "the scene renders, with its lights) or a disc IMAGE (with --phase, --pa, --centre, --radius: the "
+                    "image is the target)")
         ->capture_default_str();
     cmd->add_option("--metric", a->metric,
                     "Error --all sorts by: rel-rms = sqrt(sum (fit - target)^2 / sum target^2); on a scene also "
@@ -155,8 +193,12 @@ void add_fit_command(CLI::App& app) {
     cmd->add_option("-o,--out", a->out_dir, "Folder for --all's table (CSV) and chart (PNG)");
     cmd->add_option("--samples", a->samples, "Sample pairs (L, V) of the hemisphere domain")->capture_default_str();
     cmd->add_option("--seed", a->seed, "Seed of the sample points")->capture_default_str();
-    cmd->add_option("--phase", a->phase, "Only pairs with angle(L, V) = G degrees (the lunar case)");
+    cmd->add_option("--phase", a->phase, "Only pairs with angle(L, V) = G degrees (the lunar case); a disc image's phase");
     cmd->add_flag("--at-normal", a->at_normal, "The view-on-normal slice: V = N");
+    cmd->add_option("--centre,--center", a->centre, "Disc image: centre x,y in pixels (default: the image centre)");
+    cmd->add_option("--radius", a->radius, "Disc image: radius in pixels (default: 0.45 of the smaller side)");
+    cmd->add_option("--pa", a->pa, "Disc image: position angle of the sun, degrees from image up towards image left")
+        ->capture_default_str();
     cmd->add_option("--min-cos", a->min_cos, "Only samples with NoL and NoV >= C")->capture_default_str();
     cmd->add_option("--albedo", a->albedo, "Grey albedo of the target (and of the fitted model, before its free scale)")
         ->capture_default_str();

@@ -34,8 +34,10 @@ struct AllRow {
 struct AllResult {
     std::string target;           // "oren_nayar(sigma=0.4)"
     std::string target_model;
+    std::string target_name;      // the target model's name, or the image's file
     std::map<std::string, double> target_params;
     double target_mfrag_per_s = 0.0;
+    std::string speed_reference;  // the model speed-ups are over: the target's, or lambert's for a measured target
     std::string domain, domain_description;
     std::string device;
     std::size_t timed_fragments = 0;

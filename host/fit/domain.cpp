@@ -8,7 +8,9 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "image/image.hpp"
 #include "mesh/mesh.hpp"
+#include "moon/fit.hpp"
 #include "raster/raster.hpp"
 #include "scene/scene.hpp"
 
@@ -237,6 +239,39 @@ Domain scene_domain(const std::string& file, std::uint64_t seed) {
     d.description = std::to_string(frags.size()) + " fragments of scene '" + file + "' (" + std::to_string(s.width) +
                     "x" + std::to_string(s.height) + ", " + std::to_string(g.meshes.size()) + " meshes, " +
                     std::to_string(s.lights.size()) + " lights), rendered colours compared per channel";
+    return d;
+}
+
+Domain disc_image_domain(const DiscImageOptions& o, std::vector<double>& values) {
+    const Image img = read_image(o.image);
+    moon::Disc disc;
+    disc.cx = o.cx >= 0.0 ? o.cx : 0.5 * img.width;
+    disc.cy = o.cy >= 0.0 ? o.cy : 0.5 * img.height;
+    disc.radius = o.radius > 0.0 ? o.radius : 0.45 * std::min(img.width, img.height);
+    const moon::SunGeometry sun = moon::sun_geometry(o.phase_deg, o.pa_deg);
+    const auto pixels = moon::disc_pixels(img, disc, sun);
+    Domain d;
+    values.clear();
+    for (const auto& p : pixels) {
+        glm::dvec3 N;
+        if (!moon::sphere_point(disc, p.x + 0.5, p.y + 0.5, N)) continue;
+        d.N.push_back(N);
+        d.L.push_back(sun.L);
+        d.V.push_back(sun.V);
+        d.P.push_back(N);
+        values.push_back(p.I);
+    }
+    if (d.size() < 64)
+        throw Error("image '" + o.image + "': only " + std::to_string(d.size()) +
+                    " usable disc pixels: check --centre and --radius (a fit needs at least 64)");
+    std::ostringstream name;
+    name << "disc image " << o.image;
+    d.name = name.str();
+    std::ostringstream desc;
+    desc << d.size() << " disc pixels of '" << o.image << "' (centre " << disc.cx << "," << disc.cy << ", radius "
+         << disc.radius << " px, phase " << o.phase_deg << " deg, position angle " << o.pa_deg
+         << " deg): N the unit sphere under each pixel, V = +z, the pixel values the target";
+    d.description = desc.str();
     return d;
 }
 

@@ -62,6 +62,16 @@ Domain grazing_cut(const Domain& d, double c, std::vector<std::size_t>* kept = n
 // fragment.
 Domain scene_domain(const std::string& scene_file, std::uint64_t seed = 1);
 
+// A disc image (moon fit's geometry: centre and radius in pixels, phase and position angle of the sun): one
+// sample per disc pixel with alpha > 0 (moon::disc_pixels: N the unit sphere under the pixel centre, L to the
+// sun, V = +z), and `values` the pixel intensities (the mean of the colour channels), the fit's target.
+struct DiscImageOptions {
+    std::string image;
+    double cx = -1.0, cy = -1.0, radius = -1.0;   // < 0: the image centre, 0.45 of the smaller side
+    double phase_deg = 0.0, pa_deg = 0.0;
+};
+Domain disc_image_domain(const DiscImageOptions& o, std::vector<double>& values);
+
 // Angles of sample i for reports, degrees: theta_i = angle(N, L), theta_r = angle(N, V), phase = angle(L, V),
 // dphi = azimuth difference of L and V about N (0 when either is along N).
 struct SampleAngles {

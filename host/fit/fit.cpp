@@ -528,6 +528,20 @@ Problem::Problem(Runtime& rt, Domain domain, Material target, Precision precisio
     full_ = std::make_unique<Evaluator>(rt_, std::move(domain), precision_);
     const auto v = full_->reference(target_m_);   // 3 planes; grey: the first
     target_ = full_->domain().combine(v.data(), target_m_.albedo.x);
+    target_name_ = target_m_.model;
+}
+
+Problem::Problem(Runtime& rt, Domain domain, std::vector<double> values, const std::string& name, Precision precision)
+    : rt_(rt), precision_(precision), target_name_(name) {
+    target_m_.model = "lambert";   // only its grey albedo (0.8) is read: the fitted model's albedo before the scale
+    target_m_ = resolve_material(target_m_);
+    full_ = std::make_unique<Evaluator>(rt_, std::move(domain), precision_);
+    if (values.size() != full_->domain().outputs())
+        throw Error("internal: " + std::to_string(values.size()) + " target values for " +
+                    std::to_string(full_->domain().outputs()) + " outputs");
+    for (double& x : values)
+        if (!std::isfinite(x)) x = 0.0;
+    target_ = std::move(values);
 }
 
 void Problem::set_observer(std::function<void(const std::string&, const std::vector<double>&)> f) {
@@ -574,7 +588,10 @@ Problem& Problem::grazing(double c) {
     if (!grazing_ || grazing_c_ != c) {
         Domain d = grazing_cut(full_->domain(), c, &grazing_kept_);
         if (d.size() < 64) throw Error("the limb check keeps fewer than 64 samples: the domain is all grazing");
-        grazing_ = std::make_unique<Problem>(rt_, std::move(d), target_m_, precision_);
+        std::vector<double> t;   // the target's values there (not grouped: one output per sample)
+        for (std::size_t i : grazing_kept_) t.push_back(target_[i]);
+        grazing_ = std::make_unique<Problem>(rt_, std::move(d), std::move(t), target_name_, precision_);
+        grazing_->target_m_ = target_m_;
         grazing_->set_observer(observer_);
         grazing_c_ = c;
     }
@@ -660,8 +677,8 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
 
     FitResult r;
     r.model = info.name;
-    r.target = problem.target_material().model;
-    r.target_params = problem.target_material().params;
+    r.target = problem.target_name();
+    if (r.target == problem.target_material().model) r.target_params = problem.target_material().params;
     r.domain = full.domain().name;
     r.domain_description = full.domain().description;
     r.samples = full.size();
@@ -889,43 +906,51 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
     if (o.limb_check && !full.domain().grouped() && !(sp.free_c.empty() && sp.free_i.empty()) && rel_rms > 1e-9) {
         LimbCheck& lc = r.limb;
         lc.cos_min = o.limb_cos;
-        Problem& g = problem.grazing(o.limb_cos);
-        std::vector<bool> kept(n, false);
-        for (std::size_t i : problem.grazing_indices()) kept[i] = true;
-        double ssr_g = 0.0;
-        std::size_t n_g = 0;
-        for (std::size_t i = 0; i < n; ++i)
-            if (!kept[i]) {
-                const double d = best.a * fbest[i] - t[i];
-                ssr_g += d * d;
-                ++n_g;
-            }
-        lc.sample_share = double(n_g) / double(n);
-        lc.error_share = best.ssr > 0.0 ? ssr_g / best.ssr : 0.0;
-        if (g.full().size() >= 64) {
-            FitOptions og = o;
-            og.limb_check = false;
-            Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
-            const Point pg = search(g, shape, sp, base, og, &start, true);
-            lc.done = true;
-            lc.params = pg.x;
-            lc.albedo = pg.a * shape.albedo.x;
-            const double ttg = sum_sq(g.target().data(), g.full().size());
-            lc.rel_rms = ttg > 0.0 ? std::sqrt(pg.ssr / ttg) : 0.0;
-            for (std::size_t j : sp.free_c)
-                lc.max_shift = std::max(lc.max_shift, std::abs(pg.x[j] - best.x[j]) / (info.params[j].hi - info.params[j].lo));
-            for (std::size_t j : sp.free_i) lc.max_shift = std::max(lc.max_shift, pg.x[j] != best.x[j] ? 1.0 : 0.0);
-            lc.sensitive = lc.error_share > 3.0 * lc.sample_share && lc.max_shift > 1e-3;
-            if (lc.sensitive) {
-                std::string moved;
+        Problem* gp = nullptr;
+        try {
+            gp = &problem.grazing(o.limb_cos);
+        } catch (const Error&) {
+            gp = nullptr;   // (almost) every sample is grazing: no refit
+        }
+        if (gp) {
+            Problem& g = *gp;
+            std::vector<bool> kept(n, false);
+            for (std::size_t i : problem.grazing_indices()) kept[i] = true;
+            double ssr_g = 0.0;
+            std::size_t n_g = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                if (!kept[i]) {
+                    const double d = best.a * fbest[i] - t[i];
+                    ssr_g += d * d;
+                    ++n_g;
+                }
+            lc.sample_share = double(n_g) / double(n);
+            lc.error_share = best.ssr > 0.0 ? ssr_g / best.ssr : 0.0;
+            if (g.full().size() >= 64) {
+                FitOptions og = o;
+                og.limb_check = false;
+                Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
+                const Point pg = search(g, shape, sp, base, og, &start, true);
+                lc.done = true;
+                lc.params = pg.x;
+                lc.albedo = pg.a * shape.albedo.x;
+                const double ttg = sum_sq(g.target().data(), g.full().size());
+                lc.rel_rms = ttg > 0.0 ? std::sqrt(pg.ssr / ttg) : 0.0;
                 for (std::size_t j : sp.free_c)
-                    moved += (moved.empty() ? "" : ", ") + info.params[j].name + " = " + num(pg.x[j], 5) +
-                             " instead of " + num(best.x[j], 5);
-                add("limb", "near-grazing samples drive the fit (limb sensitivity, as Minnaert's singularity at NoL, "
-                            "NoV -> 0): the " + pct(lc.sample_share) + " of samples with NoL or NoV < " +
-                                num(o.limb_cos) + " carry " + pct(lc.error_share) +
-                                " of the squared error, and refitted over NoL, NoV >= " + num(o.limb_cos) + " " +
-                                moved);
+                    lc.max_shift = std::max(lc.max_shift, std::abs(pg.x[j] - best.x[j]) / (info.params[j].hi - info.params[j].lo));
+                for (std::size_t j : sp.free_i) lc.max_shift = std::max(lc.max_shift, pg.x[j] != best.x[j] ? 1.0 : 0.0);
+                lc.sensitive = lc.error_share > 3.0 * lc.sample_share && lc.max_shift > 1e-3;
+                if (lc.sensitive) {
+                    std::string moved;
+                    for (std::size_t j : sp.free_c)
+                        moved += (moved.empty() ? "" : ", ") + info.params[j].name + " = " + num(pg.x[j], 5) +
+                                 " instead of " + num(best.x[j], 5);
+                    add("limb", "near-grazing samples drive the fit (limb sensitivity, as Minnaert's singularity at NoL, "
+                                "NoV -> 0): the " + pct(lc.sample_share) + " of samples with NoL or NoV < " +
+                                    num(o.limb_cos) + " carry " + pct(lc.error_share) +
+                                    " of the squared error, and refitted over NoL, NoV >= " + num(o.limb_cos) + " " +
+                                    moved);
+                }
             }
         }
     }

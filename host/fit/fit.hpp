@@ -51,6 +51,11 @@ struct FitOptions {
 class Problem {
 public:
     Problem(Runtime& rt, Domain domain, Material target, Precision precision = Precision::Precise);
+    // A measured target (an image's pixels): `values` one per output; `name` says what it is. The fitted model
+    // gets `albedo_hint`'s grey albedo before its free scale.
+    Problem(Runtime& rt, Domain domain, std::vector<double> values, const std::string& name,
+            Precision precision = Precision::Precise);
+    const std::string& target_name() const { return target_name_; }
     Evaluator& full() { return *full_; }
     // The domain's first `samples` samples (all of them when there are fewer) and the target there: the
     // quasi-random points' prefixes are themselves evenly spread.
@@ -75,6 +80,7 @@ private:
     Runtime& rt_;
     Precision precision_;
     Material target_m_;
+    std::string target_name_;
     std::unique_ptr<Evaluator> full_;
     std::vector<double> target_;
     struct Owned {
