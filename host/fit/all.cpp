@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <limits>
+#include <map>
 #include <ostream>
 #include <sstream>
 
@@ -86,15 +87,20 @@ std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool 
 }  // namespace
 
 double measure_mfrag_per_s(Runtime& rt, const Material& m, std::size_t fragments, int repeats) {
-    // Fragments over the visible half of a unit sphere seen from +z (normals = positions), a regular spiral.
-    FragmentBuffer fb;
-    fb.reserve(fragments);
-    const double golden = 2.39996322972865332;
-    for (std::size_t i = 0; i < fragments; ++i) {
-        const double z = (double(i) + 0.5) / double(fragments), r = std::sqrt(std::max(0.0, 1.0 - z * z));
-        const double phi = golden * double(i);
-        const float x = float(r * std::cos(phi)), y = float(r * std::sin(phi)), zz = float(z);
-        fb.push_back(x, y, zz, x, y, zz, std::uint32_t(i), 0.5f);
+    // Fragments over the visible half of a unit sphere seen from +z (normals = positions), a regular spiral;
+    // built once per size (every model of --all is timed on the same buffer).
+    static std::map<std::size_t, FragmentBuffer> buffers;
+    FragmentBuffer& fb = buffers[fragments];
+    if (fb.size() != fragments) {
+        fb = FragmentBuffer{};
+        fb.reserve(fragments);
+        const double golden = 2.39996322972865332;
+        for (std::size_t i = 0; i < fragments; ++i) {
+            const double z = (double(i) + 0.5) / double(fragments), r = std::sqrt(std::max(0.0, 1.0 - z * z));
+            const double phi = golden * double(i);
+            const float x = float(r * std::cos(phi)), y = float(r * std::sin(phi)), zz = float(z);
+            fb.push_back(x, y, zz, x, y, zz, std::int32_t(i), 0.5f);
+        }
     }
     ShadeSetup s;
     s.material = m;
@@ -102,7 +108,7 @@ double measure_mfrag_per_s(Runtime& rt, const Material& m, std::size_t fragments
     s.view = glm::dvec4(0.0, 0.0, 3.0, 1.0);
     Shader shader(rt);
     double best = std::numeric_limits<double>::infinity(), spent = 0.0;
-    for (int r = 0; r < std::max(1, repeats) && spent < 150.0; ++r) {
+    for (int r = 0; r < std::max(1, repeats) && spent < 60.0; ++r) {
         ShadeTiming t;
         shader.shade(fb, s, &t);
         best = std::min(best, t.kernel_ms);

@@ -48,7 +48,7 @@ struct AllResult {
 };
 
 // Kernel device time of `m`'s shading kernel (one directional light) on `fragments` fragments spread over a
-// lit sphere, best of up to `repeats` runs (fewer once 150 ms of kernel time were spent: a slow model's single
+// lit sphere, best of up to `repeats` runs (fewer once 60 ms of kernel time were spent: a slow model's single
 // run is long enough to time), in million fragments per second.
 double measure_mfrag_per_s(Runtime& rt, const Material& m, std::size_t fragments, int repeats);
 
