@@ -60,7 +60,7 @@ std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool 
       << "set ylabel " << gp_string(model_error ? "model error: " + metric + " of the best fit against the target (log scale)"
                                                 : "numeric error: rel-rms of the float kernel against its own double "
                                                   "reference (log scale)")
-      << "\nset logscale xy\nset format y '10^{%L}'\nset format x '%g'\nset key bottom right box opaque\n"
+      << "\nset logscale xy\nset format y '10^{%L}'\nset format x '%g'\nset key bottom left box opaque\n"
       << "set xrange [" << gp_number(xlo / 2.0) << ":" << gp_number(xhi * 2.0) << "]\n"
       << "set yrange [" << gp_number(ylo / 10.0) << ":" << gp_number(yhi * 30.0) << "]\n"
       << "unset label\n";
