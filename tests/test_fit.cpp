@@ -222,7 +222,7 @@ TEST_CASE("fit: ill-posed fits are said in words, with no NaN and no exception",
         CHECK(r.albedo > 0.0);
         for (const auto& [k, v] : r.error) CHECK(std::isfinite(v));
     }
-    SECTION("Minnaert at phase 0 on the normal (one geometry) against all phases") {
+    SECTION("Minnaert at phase 0 (on the normal: one geometry; over the hemisphere) against all phases") {
         const Material t = target_of("oren_nayar", {{"sigma", 0.4}});
         fit::HemisphereOptions o;
         o.samples = 4096;
@@ -233,6 +233,17 @@ TEST_CASE("fit: ill-posed fits are said in words, with no NaN and no exception",
         INFO(fit::to_text(r0));
         CHECK_FALSE(r0.well_posed);
         CHECK(has(r0, "no_effect"));
+        // Phase 0 over the hemisphere (L = V, the full-moon case): Minnaert's mu^(2k - 1) against Oren-Nayar's
+        // bright limb is decided by the few grazing samples, and said so; over all phases the same fit is well posed.
+        o.samples = 16384;
+        o.at_normal = false;
+        const fit::FitResult rp = fit_to(t, "minnaert_1941", fit::hemisphere_domain(o));
+        INFO(fit::to_text(rp));
+        CHECK_FALSE(rp.well_posed);
+        CHECK(has(rp, "limb"));
+        const fit::FitResult rall = fit_to(t, "minnaert_1941", hemisphere(16384));
+        INFO(fit::to_text(rall));
+        CHECK(rall.well_posed);
         const fit::FitResult ra = fit_to(target_of("minnaert_normalized", {{"k", 0.8}}), "minnaert_1941", hemisphere(8192));
         INFO(fit::to_text(ra));
         CHECK(ra.well_posed);
