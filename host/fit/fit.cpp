@@ -632,6 +632,347 @@ ModelShape shape_for(const std::string& model, const Material& target, double sp
     return s;
 }
 
+namespace {
+
+// What the reports after the search read: the problem, the model, the optimum and its values there.
+struct Optimum {
+    Problem& problem;
+    const ModelShape& shape;
+    const ModelInfo& info;
+    const Space& sp;
+    const std::vector<double>& base;
+    const Point& best;
+    const std::vector<double>& fbest;   // the model's values at the optimum (references), before the scale
+    const std::vector<double>& t;       // the target's
+    std::size_t n;                      // outputs
+    double tt, rel_rms;
+};
+
+// The Jacobian at the optimum and what follows from it: parameters with no effect, the covariance.
+struct Sensitivity {
+    std::vector<std::vector<double>> J;   // d(a f)/dx_j per free continuous parameter, then f (the scale's)
+    std::vector<double> colnorm;
+    std::vector<bool> no_effect;
+    std::vector<std::size_t> live;        // columns in the covariance (the last: the scale)
+    std::vector<double> cov;              // (J^T J)^-1 over `live`, row-major
+    bool cov_ok = true;
+};
+
+void say(FitResult& r, const std::string& kind, const std::string& text, bool ill = true) {
+    r.diagnostics.push_back({kind, text, ill});
+}
+
+// The errors of the optimum in double (and Delta E 2000 of the rendered colours on a scene), and where the
+// largest difference is.
+void measure_errors(const Optimum& z, FitResult& r) {
+    const Point& best = z.best;
+    const std::vector<double>& fbest = z.fbest;
+    const std::vector<double>& t = z.t;
+    const std::size_t n = z.n;
+    const Domain& dom = z.problem.full().domain();
+    double max_abs = 0.0, max_t = 0.0;
+    std::size_t worst = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double d = std::abs(best.a * fbest[i] - t[i]);
+        if (d > max_abs) max_abs = d, worst = i;
+        max_t = std::max(max_t, std::abs(t[i]));
+    }
+    r.error["rel-rms"] = z.rel_rms;
+    r.error["rms"] = std::sqrt(best.ssr / double(n));
+    r.error["max-abs"] = max_abs;
+    r.error["rel-max"] = max_t > 0.0 ? max_abs / max_t : 0.0;
+    r.worst.index = worst;
+    // Scene outputs are fragment channels: the angles of the fragment's first light.
+    r.worst.angles = angles_of(dom, dom.grouped() ? worst / 3 * dom.per_group : worst);
+    if (dom.grouped()) {
+        // The rendered colours (linear sRGB) as CIE L*a*b*: Delta E 2000 per fragment.
+        std::vector<double> de;
+        for (std::size_t f = 0; f + 2 < n; f += 3) {
+            const glm::dvec3 tc(t[f], t[f + 1], t[f + 2]), fc(best.a * fbest[f], best.a * fbest[f + 1], best.a * fbest[f + 2]);
+            const double e = delta_e2000(lab_from_linear_srgb(glm::max(tc, 0.0)), lab_from_linear_srgb(glm::max(fc, 0.0)));
+            de.push_back(std::isfinite(e) ? e : 0.0);
+        }
+        std::sort(de.begin(), de.end());
+        double sum = 0.0;
+        for (double e : de) sum += e;
+        r.error["de2000-mean"] = de.empty() ? 0.0 : sum / double(de.size());
+        r.error["de2000-p99"] = de.empty() ? 0.0 : de[std::min(de.size() - 1, std::size_t(0.99 * double(de.size())))];
+        r.error["de2000-max"] = de.empty() ? 0.0 : de.back();
+    }
+    r.worst.target = t[worst];
+    r.worst.fit = best.a * fbest[worst];
+}
+
+// Standard errors from the Jacobian at the optimum (into r), the parameters with no effect, the covariance.
+Sensitivity sensitivity(const Optimum& z, FitResult& r) {
+    const Space& sp = z.sp;
+    const Point& best = z.best;
+    const std::vector<double>& fbest = z.fbest;
+    const std::size_t n = z.n;
+    const ValuesFn Fr = reference_values(z.problem.full(), z.shape), Fk = kernel_values(z.problem.full(), z.shape);
+    Sensitivity sens;
+    auto& J = sens.J;
+    auto& colnorm = sens.colnorm;
+    auto& no_effect = sens.no_effect;
+    auto& live = sens.live;
+    auto& cov = sens.cov;
+    bool& cov_ok = sens.cov_ok;
+    // Standard errors: cov = s^2 (J^T J)^-1 over the free continuous parameters (model units) and the scale,
+    // s^2 = ssr / (n - p), J by central differences in double at the optimum (one-sided at a bound).
+    const std::size_t k = sp.free_c.size();
+    colnorm.assign(k, 0.0);
+    {
+        // Over 4 parameters: forward differences (half the reference evaluations; ample for standard errors).
+        const bool central = k <= 4;
+        std::vector<std::vector<double>> sets;
+        std::vector<double> dx(k);
+        for (std::size_t c = 0; c < k; ++c) {
+            const std::size_t j = sp.free_c[c];
+            const double u = sp.axes[j].u(best.x[j]);
+            double up = std::min(1.0, u + 1e-5), dn = std::max(0.0, u - 1e-5);
+            if (!central && up > u) dn = u;
+            auto xu = with_u(sp, best.x, j, up), xd = with_u(sp, best.x, j, dn);
+            dx[c] = xu[j] - xd[j];
+            sets.push_back(xu);
+            if (central || dn < u) sets.push_back(xd);
+            else sets.push_back({});   // the optimum itself: fbest
+        }
+        std::vector<std::vector<double>> todo;
+        for (const auto& x : sets)
+            if (!x.empty()) todo.push_back(x);
+        const auto got = todo.empty() ? std::vector<std::vector<double>>{} : Fr(todo);
+        std::vector<std::vector<double>> fv;
+        for (std::size_t q = 0, g = 0; q < sets.size(); ++q) fv.push_back(sets[q].empty() ? fbest : got[g++]);
+        for (std::size_t c = 0; c < k; ++c) {
+            std::vector<double> col(n, 0.0);
+            if (dx[c] > 0.0)
+                for (std::size_t i = 0; i < n; ++i) col[i] = best.a * (fv[2 * c][i] - fv[2 * c + 1][i]) / dx[c];
+            for (double v : col) colnorm[c] += v * v;
+            J.push_back(std::move(col));
+        }
+        J.push_back(fbest);
+    }
+    // No effect: the model's values at the two ends of the parameter's range, the others as fitted, equal to
+    // the fitted values within float rounding (kernel; one batch for all parameters).
+    no_effect.assign(k, false);
+    if (k > 0) {
+        std::vector<std::vector<double>> sets;
+        for (std::size_t c = 0; c < k; ++c) {
+            const std::size_t j = sp.free_c[c];
+            sets.push_back(with_u(sp, best.x, j, 0.0));
+            sets.push_back(with_u(sp, best.x, j, 1.0));
+        }
+        const auto fv = Fk(sets);
+        double fmax = 0.0;
+        for (double v : fbest) fmax = std::max(fmax, std::abs(v));
+        for (std::size_t c = 0; c < k; ++c) {
+            double d = 0.0;
+            for (int e = 0; e < 2; ++e)
+                for (std::size_t i = 0; i < n; ++i) d = std::max(d, std::abs(fv[2 * c + e][i] - fbest[i]));
+            no_effect[c] = d <= 1e-6 * fmax;
+        }
+    }
+    for (std::size_t c = 0; c < k; ++c)
+        if (!no_effect[c] && colnorm[c] > 0.0) live.push_back(c);
+    live.push_back(k);   // the scale
+    const std::size_t m = live.size();
+    std::vector<double> A(m * m, 0.0);
+    for (std::size_t a1 = 0; a1 < m; ++a1)
+        for (std::size_t a2 = a1; a2 < m; ++a2) {
+            double s = 0.0;
+            for (std::size_t i = 0; i < n; ++i) s += J[live[a1]][i] * J[live[a2]][i];
+            A[a1 * m + a2] = A[a2 * m + a1] = s;
+        }
+    cov.assign(m * m, 0.0);
+    cov_ok = true;
+    for (std::size_t c = 0; c < m && cov_ok; ++c) {
+        std::vector<double> e(m, 0.0), col;
+        e[c] = 1.0;
+        cov_ok = solve(A, e, m, col, 1e-13);
+        for (std::size_t q = 0; q < m && cov_ok; ++q) cov[q * m + c] = col[q];
+    }
+    const double dof = double(n) > double(m) ? double(n) - double(m) : 1.0;
+    const double s2 = best.ssr / dof;
+    if (cov_ok) {
+        for (std::size_t q = 0; q < m; ++q) {
+            const double v = std::sqrt(std::max(0.0, s2 * cov[q * m + q]));
+            if (live[q] == k) {
+                r.se_albedo = v * z.shape.albedo.x;
+            } else {
+                r.params[sp.free_c[live[q]]].se = v;
+                r.params[sp.free_c[live[q]]].se_known = std::isfinite(v);
+            }
+        }
+    }
+    return sens;
+}
+
+// The diagnostics in words: not representable; per parameter no effect, at a limit, poorly determined, flat;
+// trade-offs from the covariance.
+void diagnose(const Optimum& z, const Sensitivity& sens, const FitOptions& o, FitResult& r) {
+    const ModelInfo& info = z.info;
+    const Space& sp = z.sp;
+    const Point& best = z.best;
+    const std::vector<double>& fbest = z.fbest;
+    const std::vector<double>& t = z.t;
+    const std::size_t n = z.n;
+    const double tt = z.tt, rel_rms = z.rel_rms;
+    const ValuesFn Fk = kernel_values(z.problem.full(), z.shape);
+    const auto& J = sens.J;
+    const auto& no_effect = sens.no_effect;
+    const auto& live = sens.live;
+    const auto& cov = sens.cov;
+    const bool cov_ok = sens.cov_ok;
+    const std::size_t k = sp.free_c.size(), m = live.size();
+    // Not representable.
+    if (rel_rms > o.representable) {
+        r.representable = false;
+        const auto& a = r.worst.angles;
+        say(r, "not_representable",
+            "the model cannot represent the target on this domain: its best fit leaves a rel-rms of " + pct(rel_rms) +
+                " (largest difference at theta_i " + num(a.theta_i, 3) + ", theta_r " + num(a.theta_r, 3) + ", dphi " +
+                num(a.dphi, 3) + " deg: target " + num(r.worst.target, 4) + ", fit " + num(r.worst.fit, 4) + ")",
+            false);
+    }
+    // Per parameter: no effect, at a limit, flat.
+    std::vector<std::vector<double>> flat_sets;
+    std::vector<std::size_t> flat_of;
+    for (std::size_t c = 0; c < k; ++c) {
+        const std::size_t j = sp.free_c[c];
+        const ParamSpec& p = info.params[j];
+        if (no_effect[c]) {
+            say(r, "no_effect", p.name + " has no effect on the value over this domain (with the other parameters as "
+                             "fitted): any value in [" + num(p.lo) + ", " + num(p.hi) + "] fits equally; reported at " +
+                                 num(best.x[j]));
+            continue;
+        }
+        const double u = sp.axes[j].u(best.x[j]);
+        if (u <= 1e-9 || u >= 1.0 - 1e-9) {
+            const bool lower = u <= 1e-9;
+            // Does the error fall beyond the limit? The gradient of ssr in the outward direction.
+            double g = 0.0;
+            for (std::size_t i = 0; i < n; ++i) g += J[c][i] * (best.a * fbest[i] - t[i]);
+            const bool outward = lower ? g > 0.0 : g < 0.0;
+            say(r, "at_limit", p.name + " is at the " + (lower ? "lower" : "upper") + " limit of its range (" +
+                                num(lower ? p.lo : p.hi) + ")" +
+                                (outward && rel_rms > 1e-8 ? ": the error would fall further beyond it"
+                                                           : ", where the fit is best"),
+                outward && rel_rms > 1e-8);
+        }
+        for (double du : {-0.05, 0.05}) {
+            const double uu = std::clamp(u + du, 0.0, 1.0);
+            if (std::abs(uu - u) < 0.025) continue;   // at a limit: only the inward side
+            flat_sets.push_back(with_u(sp, best.x, j, uu));
+            flat_of.push_back(c);
+        }
+        if (r.params[j].se_known && r.params[j].se > 0.1 * (p.hi - p.lo))
+            say(r, "poorly_determined", p.name + " is poorly determined: standard error " + num(r.params[j].se, 3) +
+                                         " against a range of [" + num(p.lo) + ", " + num(p.hi) + "]");
+    }
+    if (!flat_sets.empty()) {
+        const auto fv = Fk(flat_sets);
+        std::vector<double> rise(k, std::numeric_limits<double>::infinity());
+        const double float_floor = 1e-6;   // the float kernel's own rel-rms noise is ~1e-7
+        for (std::size_t q = 0; q < flat_sets.size(); ++q) {
+            const Scaled s = best_scale(fv[q], t.data(), n);
+            rise[flat_of[q]] = std::min(rise[flat_of[q]], std::sqrt(s.ssr / tt) - rel_rms);
+        }
+        for (std::size_t c = 0; c < k; ++c)
+            if (std::isfinite(rise[c]) && rise[c] < std::max(1e-3 * rel_rms, float_floor)) {
+                const ParamSpec& p = info.params[sp.free_c[c]];
+                say(r, "flat", "the objective is flat in " + p.name + ": moving it by 5% of its range changes the "
+                            "rel-rms by " + num(std::max(0.0, rise[c]), 2) + " (of " + num(rel_rms, 3) +
+                            "), so the value is not pinned down");
+            }
+    }
+    // Trade-offs (covariance correlations), scale included.
+    if (cov_ok)
+        for (std::size_t a1 = 0; a1 < m; ++a1)
+            for (std::size_t a2 = a1 + 1; a2 < m; ++a2) {
+                const double den = std::sqrt(cov[a1 * m + a1] * cov[a2 * m + a2]);
+                if (!(den > 0.0)) continue;
+                const double corr = cov[a1 * m + a2] / den;
+                if (std::abs(corr) > 0.995) {
+                    auto nm = [&](std::size_t q) {
+                        return live[q] == k ? std::string("the albedo") : info.params[sp.free_c[live[q]]].name;
+                    };
+                    say(r, "trade_off", nm(a1) + " and " + nm(a2) + " trade off (correlation " + num(corr, 4) +
+                                         "): this domain hardly separates them");
+                }
+            }
+    if (!cov_ok && k > 0)
+        say(r, "trade_off", "the normal matrix is singular: some parameters (or a parameter and the albedo) have the "
+                         "same effect on this domain, so no standard errors");
+}
+
+// The limb check (hemisphere-like domains only: a scene's outputs sum several lights, so a sample cut would split
+// fragments): the share of the squared residual carried by near-grazing samples, and a refit without them.
+void limb_check(const Optimum& z, const FitOptions& o, FitResult& r) {
+    const ModelInfo& info = z.info;
+    const ModelShape& shape = z.shape;
+    const Space& sp = z.sp;
+    const std::vector<double>& base = z.base;
+    const Point& best = z.best;
+    const std::vector<double>& fbest = z.fbest;
+    const std::vector<double>& t = z.t;
+    const std::size_t n = z.n;
+    const double rel_rms = z.rel_rms;
+    // (Not on scene domains: their outputs sum several lights, so a sample cut would split fragments.)
+    if (o.limb_check && !z.problem.full().domain().grouped() && !(sp.free_c.empty() && sp.free_i.empty()) && rel_rms > 1e-9) {
+        LimbCheck& lc = r.limb;
+        lc.cos_min = o.limb_cos;
+        Problem* gp = nullptr;
+        try {
+            gp = &z.problem.grazing(o.limb_cos);
+        } catch (const Error&) {
+            gp = nullptr;   // (almost) every sample is grazing: no refit
+        }
+        if (gp) {
+            Problem& g = *gp;
+            std::vector<bool> kept(n, false);
+            for (std::size_t i : z.problem.grazing_indices()) kept[i] = true;
+            double ssr_g = 0.0;
+            std::size_t n_g = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                if (!kept[i]) {
+                    const double d = best.a * fbest[i] - t[i];
+                    ssr_g += d * d;
+                    ++n_g;
+                }
+            lc.sample_share = double(n_g) / double(n);
+            lc.error_share = best.ssr > 0.0 ? ssr_g / best.ssr : 0.0;
+            if (g.full().size() >= 64) {
+                FitOptions og = o;
+                og.limb_check = false;
+                Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
+                const Point pg = search(g, shape, sp, base, og, &start, true);
+                lc.done = true;
+                lc.params = pg.x;
+                lc.albedo = pg.a * shape.albedo.x;
+                const double ttg = sum_sq(g.target().data(), g.full().size());
+                lc.rel_rms = ttg > 0.0 ? std::sqrt(pg.ssr / ttg) : 0.0;
+                for (std::size_t j : sp.free_c)
+                    lc.max_shift = std::max(lc.max_shift, std::abs(pg.x[j] - best.x[j]) / (info.params[j].hi - info.params[j].lo));
+                for (std::size_t j : sp.free_i) lc.max_shift = std::max(lc.max_shift, pg.x[j] != best.x[j] ? 1.0 : 0.0);
+                lc.sensitive = lc.error_share > 3.0 * lc.sample_share && lc.max_shift > 1e-3;
+                if (lc.sensitive) {
+                    std::string moved;
+                    for (std::size_t j : sp.free_c)
+                        moved += (moved.empty() ? "" : ", ") + info.params[j].name + " = " + num(pg.x[j], 5) +
+                                 " instead of " + num(best.x[j], 5);
+                    say(r, "limb", "near-grazing samples drive the fit (limb sensitivity, as Minnaert's singularity at NoL, "
+                                "NoV -> 0): the " + pct(lc.sample_share) + " of samples with NoL or NoV < " +
+                                    num(o.limb_cos) + " carry " + pct(lc.error_share) +
+                                    " of the squared error, and refitted over NoL, NoV >= " + num(o.limb_cos) + " " +
+                                    moved);
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
 FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<std::string, double>& fixed,
                     const FitOptions& o) {
     using clock = std::chrono::steady_clock;
@@ -672,8 +1013,7 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
         }
     }
     Point best = search(problem, shape, sp, base, o, nullptr);
-    const ValuesFn Fr = reference_values(full, shape), Fk = kernel_values(full, shape);
-    const std::vector<double> fbest = Fr({best.x})[0];
+    const std::vector<double> fbest = reference_values(full, shape)({best.x})[0];
 
     FitResult r;
     r.model = info.name;
@@ -694,266 +1034,11 @@ FitResult fit_model(Problem& problem, const ModelShape& shape, const std::map<st
         fp.fixed = fixed.count(fp.name) > 0;
         r.params.push_back(fp);
     }
-    // Errors in double.
-    double max_abs = 0.0, max_t = 0.0;
-    std::size_t worst = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const double d = std::abs(best.a * fbest[i] - t[i]);
-        if (d > max_abs) max_abs = d, worst = i;
-        max_t = std::max(max_t, std::abs(t[i]));
-    }
-    const double rel_rms = tt > 0.0 ? std::sqrt(best.ssr / tt) : 0.0;
-    r.error["rel-rms"] = rel_rms;
-    r.error["rms"] = std::sqrt(best.ssr / double(n));
-    r.error["max-abs"] = max_abs;
-    r.error["rel-max"] = max_t > 0.0 ? max_abs / max_t : 0.0;
-    r.worst.index = worst;
-    // Scene outputs are fragment channels: the angles of the fragment's first light.
-    r.worst.angles = angles_of(full.domain(), full.domain().grouped() ? worst / 3 * full.domain().per_group : worst);
-    if (full.domain().grouped()) {
-        // The rendered colours (linear sRGB) as CIE L*a*b*: Delta E 2000 per fragment.
-        std::vector<double> de;
-        for (std::size_t f = 0; f + 2 < n; f += 3) {
-            const glm::dvec3 tc(t[f], t[f + 1], t[f + 2]), fc(best.a * fbest[f], best.a * fbest[f + 1], best.a * fbest[f + 2]);
-            const double e = delta_e2000(lab_from_linear_srgb(glm::max(tc, 0.0)), lab_from_linear_srgb(glm::max(fc, 0.0)));
-            de.push_back(std::isfinite(e) ? e : 0.0);
-        }
-        std::sort(de.begin(), de.end());
-        double sum = 0.0;
-        for (double e : de) sum += e;
-        r.error["de2000-mean"] = de.empty() ? 0.0 : sum / double(de.size());
-        r.error["de2000-p99"] = de.empty() ? 0.0 : de[std::min(de.size() - 1, std::size_t(0.99 * double(de.size())))];
-        r.error["de2000-max"] = de.empty() ? 0.0 : de.back();
-    }
-    r.worst.target = t[worst];
-    r.worst.fit = best.a * fbest[worst];
-
-    // Standard errors: cov = s^2 (J^T J)^-1 over the free continuous parameters (model units) and the scale,
-    // s^2 = ssr / (n - p), J by central differences in double at the optimum (one-sided at a bound).
-    const std::size_t k = sp.free_c.size();
-    std::vector<std::vector<double>> J;
-    std::vector<double> colnorm(k, 0.0);
-    {
-        // Over 4 parameters: forward differences (half the reference evaluations; ample for standard errors).
-        const bool central = k <= 4;
-        std::vector<std::vector<double>> sets;
-        std::vector<double> dx(k);
-        for (std::size_t c = 0; c < k; ++c) {
-            const std::size_t j = sp.free_c[c];
-            const double u = sp.axes[j].u(best.x[j]);
-            double up = std::min(1.0, u + 1e-5), dn = std::max(0.0, u - 1e-5);
-            if (!central && up > u) dn = u;
-            auto xu = with_u(sp, best.x, j, up), xd = with_u(sp, best.x, j, dn);
-            dx[c] = xu[j] - xd[j];
-            sets.push_back(xu);
-            if (central || dn < u) sets.push_back(xd);
-            else sets.push_back({});   // the optimum itself: fbest
-        }
-        std::vector<std::vector<double>> todo;
-        for (const auto& x : sets)
-            if (!x.empty()) todo.push_back(x);
-        const auto got = todo.empty() ? std::vector<std::vector<double>>{} : Fr(todo);
-        std::vector<std::vector<double>> fv;
-        for (std::size_t q = 0, g = 0; q < sets.size(); ++q) fv.push_back(sets[q].empty() ? fbest : got[g++]);
-        for (std::size_t c = 0; c < k; ++c) {
-            std::vector<double> col(n, 0.0);
-            if (dx[c] > 0.0)
-                for (std::size_t i = 0; i < n; ++i) col[i] = best.a * (fv[2 * c][i] - fv[2 * c + 1][i]) / dx[c];
-            for (double v : col) colnorm[c] += v * v;
-            J.push_back(std::move(col));
-        }
-        J.push_back(fbest);
-    }
-    // No effect: the model's values at the two ends of the parameter's range, the others as fitted, equal to
-    // the fitted values within float rounding (kernel; one batch for all parameters).
-    std::vector<bool> no_effect(k, false);
-    if (k > 0) {
-        std::vector<std::vector<double>> sets;
-        for (std::size_t c = 0; c < k; ++c) {
-            const std::size_t j = sp.free_c[c];
-            sets.push_back(with_u(sp, best.x, j, 0.0));
-            sets.push_back(with_u(sp, best.x, j, 1.0));
-        }
-        const auto fv = Fk(sets);
-        double fmax = 0.0;
-        for (double v : fbest) fmax = std::max(fmax, std::abs(v));
-        for (std::size_t c = 0; c < k; ++c) {
-            double d = 0.0;
-            for (int e = 0; e < 2; ++e)
-                for (std::size_t i = 0; i < n; ++i) d = std::max(d, std::abs(fv[2 * c + e][i] - fbest[i]));
-            no_effect[c] = d <= 1e-6 * fmax;
-        }
-    }
-    std::vector<std::size_t> live;   // columns in the covariance
-    for (std::size_t c = 0; c < k; ++c)
-        if (!no_effect[c] && colnorm[c] > 0.0) live.push_back(c);
-    live.push_back(k);   // the scale
-    const std::size_t m = live.size();
-    std::vector<double> A(m * m, 0.0);
-    for (std::size_t a1 = 0; a1 < m; ++a1)
-        for (std::size_t a2 = a1; a2 < m; ++a2) {
-            double s = 0.0;
-            for (std::size_t i = 0; i < n; ++i) s += J[live[a1]][i] * J[live[a2]][i];
-            A[a1 * m + a2] = A[a2 * m + a1] = s;
-        }
-    std::vector<double> cov(m * m, 0.0);
-    bool cov_ok = true;
-    for (std::size_t c = 0; c < m && cov_ok; ++c) {
-        std::vector<double> e(m, 0.0), col;
-        e[c] = 1.0;
-        cov_ok = solve(A, e, m, col, 1e-13);
-        for (std::size_t q = 0; q < m && cov_ok; ++q) cov[q * m + c] = col[q];
-    }
-    const double dof = double(n) > double(m) ? double(n) - double(m) : 1.0;
-    const double s2 = best.ssr / dof;
-    if (cov_ok) {
-        for (std::size_t q = 0; q < m; ++q) {
-            const double v = std::sqrt(std::max(0.0, s2 * cov[q * m + q]));
-            if (live[q] == k) {
-                r.se_albedo = v * shape.albedo.x;
-            } else {
-                r.params[sp.free_c[live[q]]].se = v;
-                r.params[sp.free_c[live[q]]].se_known = std::isfinite(v);
-            }
-        }
-    }
-
-    auto add = [&](const std::string& kind, const std::string& text, bool ill = true) {
-        r.diagnostics.push_back({kind, text, ill});
-    };
-    // Not representable.
-    if (rel_rms > o.representable) {
-        r.representable = false;
-        const auto& a = r.worst.angles;
-        add("not_representable",
-            "the model cannot represent the target on this domain: its best fit leaves a rel-rms of " + pct(rel_rms) +
-                " (largest difference at theta_i " + num(a.theta_i, 3) + ", theta_r " + num(a.theta_r, 3) + ", dphi " +
-                num(a.dphi, 3) + " deg: target " + num(r.worst.target, 4) + ", fit " + num(r.worst.fit, 4) + ")",
-            false);
-    }
-    // Per parameter: no effect, at a limit, flat.
-    std::vector<std::vector<double>> flat_sets;
-    std::vector<std::size_t> flat_of;
-    for (std::size_t c = 0; c < k; ++c) {
-        const std::size_t j = sp.free_c[c];
-        const ParamSpec& p = info.params[j];
-        if (no_effect[c]) {
-            add("no_effect", p.name + " has no effect on the value over this domain (with the other parameters as "
-                             "fitted): any value in [" + num(p.lo) + ", " + num(p.hi) + "] fits equally; reported at " +
-                                 num(best.x[j]));
-            continue;
-        }
-        const double u = sp.axes[j].u(best.x[j]);
-        if (u <= 1e-9 || u >= 1.0 - 1e-9) {
-            const bool lower = u <= 1e-9;
-            // Does the error fall beyond the limit? The gradient of ssr in the outward direction.
-            double g = 0.0;
-            for (std::size_t i = 0; i < n; ++i) g += J[c][i] * (best.a * fbest[i] - t[i]);
-            const bool outward = lower ? g > 0.0 : g < 0.0;
-            add("at_limit", p.name + " is at the " + (lower ? "lower" : "upper") + " limit of its range (" +
-                                num(lower ? p.lo : p.hi) + ")" +
-                                (outward && rel_rms > 1e-8 ? ": the error would fall further beyond it"
-                                                           : ", where the fit is best"),
-                outward && rel_rms > 1e-8);
-        }
-        for (double du : {-0.05, 0.05}) {
-            const double uu = std::clamp(u + du, 0.0, 1.0);
-            if (std::abs(uu - u) < 0.025) continue;   // at a limit: only the inward side
-            flat_sets.push_back(with_u(sp, best.x, j, uu));
-            flat_of.push_back(c);
-        }
-        if (r.params[j].se_known && r.params[j].se > 0.1 * (p.hi - p.lo))
-            add("poorly_determined", p.name + " is poorly determined: standard error " + num(r.params[j].se, 3) +
-                                         " against a range of [" + num(p.lo) + ", " + num(p.hi) + "]");
-    }
-    if (!flat_sets.empty()) {
-        const auto fv = Fk(flat_sets);
-        std::vector<double> rise(k, std::numeric_limits<double>::infinity());
-        const double float_floor = 1e-6;   // the float kernel's own rel-rms noise is ~1e-7
-        for (std::size_t q = 0; q < flat_sets.size(); ++q) {
-            const Scaled s = best_scale(fv[q], t.data(), n);
-            rise[flat_of[q]] = std::min(rise[flat_of[q]], std::sqrt(s.ssr / tt) - rel_rms);
-        }
-        for (std::size_t c = 0; c < k; ++c)
-            if (std::isfinite(rise[c]) && rise[c] < std::max(1e-3 * rel_rms, float_floor)) {
-                const ParamSpec& p = info.params[sp.free_c[c]];
-                add("flat", "the objective is flat in " + p.name + ": moving it by 5% of its range changes the "
-                            "rel-rms by " + num(std::max(0.0, rise[c]), 2) + " (of " + num(rel_rms, 3) +
-                            "), so the value is not pinned down");
-            }
-    }
-    // Trade-offs (covariance correlations), scale included.
-    if (cov_ok)
-        for (std::size_t a1 = 0; a1 < m; ++a1)
-            for (std::size_t a2 = a1 + 1; a2 < m; ++a2) {
-                const double den = std::sqrt(cov[a1 * m + a1] * cov[a2 * m + a2]);
-                if (!(den > 0.0)) continue;
-                const double corr = cov[a1 * m + a2] / den;
-                if (std::abs(corr) > 0.995) {
-                    auto nm = [&](std::size_t q) {
-                        return live[q] == k ? std::string("the albedo") : info.params[sp.free_c[live[q]]].name;
-                    };
-                    add("trade_off", nm(a1) + " and " + nm(a2) + " trade off (correlation " + num(corr, 4) +
-                                         "): this domain hardly separates them");
-                }
-            }
-    if (!cov_ok && k > 0)
-        add("trade_off", "the normal matrix is singular: some parameters (or a parameter and the albedo) have the "
-                         "same effect on this domain, so no standard errors");
-
-    // Limb check: the share of the squared residual carried by near-grazing samples, and a refit without them.
-    // (Not on scene domains: their outputs sum several lights, so a sample cut would split fragments.)
-    if (o.limb_check && !full.domain().grouped() && !(sp.free_c.empty() && sp.free_i.empty()) && rel_rms > 1e-9) {
-        LimbCheck& lc = r.limb;
-        lc.cos_min = o.limb_cos;
-        Problem* gp = nullptr;
-        try {
-            gp = &problem.grazing(o.limb_cos);
-        } catch (const Error&) {
-            gp = nullptr;   // (almost) every sample is grazing: no refit
-        }
-        if (gp) {
-            Problem& g = *gp;
-            std::vector<bool> kept(n, false);
-            for (std::size_t i : problem.grazing_indices()) kept[i] = true;
-            double ssr_g = 0.0;
-            std::size_t n_g = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                if (!kept[i]) {
-                    const double d = best.a * fbest[i] - t[i];
-                    ssr_g += d * d;
-                    ++n_g;
-                }
-            lc.sample_share = double(n_g) / double(n);
-            lc.error_share = best.ssr > 0.0 ? ssr_g / best.ssr : 0.0;
-            if (g.full().size() >= 64) {
-                FitOptions og = o;
-                og.limb_check = false;
-                Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
-                const Point pg = search(g, shape, sp, base, og, &start, true);
-                lc.done = true;
-                lc.params = pg.x;
-                lc.albedo = pg.a * shape.albedo.x;
-                const double ttg = sum_sq(g.target().data(), g.full().size());
-                lc.rel_rms = ttg > 0.0 ? std::sqrt(pg.ssr / ttg) : 0.0;
-                for (std::size_t j : sp.free_c)
-                    lc.max_shift = std::max(lc.max_shift, std::abs(pg.x[j] - best.x[j]) / (info.params[j].hi - info.params[j].lo));
-                for (std::size_t j : sp.free_i) lc.max_shift = std::max(lc.max_shift, pg.x[j] != best.x[j] ? 1.0 : 0.0);
-                lc.sensitive = lc.error_share > 3.0 * lc.sample_share && lc.max_shift > 1e-3;
-                if (lc.sensitive) {
-                    std::string moved;
-                    for (std::size_t j : sp.free_c)
-                        moved += (moved.empty() ? "" : ", ") + info.params[j].name + " = " + num(pg.x[j], 5) +
-                                 " instead of " + num(best.x[j], 5);
-                    add("limb", "near-grazing samples drive the fit (limb sensitivity, as Minnaert's singularity at NoL, "
-                                "NoV -> 0): the " + pct(lc.sample_share) + " of samples with NoL or NoV < " +
-                                    num(o.limb_cos) + " carry " + pct(lc.error_share) +
-                                    " of the squared error, and refitted over NoL, NoV >= " + num(o.limb_cos) + " " +
-                                    moved);
-                }
-            }
-        }
-    }
+    const Optimum z{problem, shape, info, sp, base, best, fbest, t, n, tt, tt > 0.0 ? std::sqrt(best.ssr / tt) : 0.0};
+    measure_errors(z, r);
+    const Sensitivity sens = sensitivity(z, r);
+    diagnose(z, sens, o, r);
+    limb_check(z, o, r);
     for (const auto& d : r.diagnostics)
         if (d.ill_posed) r.well_posed = false;
     r.kernel_evaluations = problem.kernel_evaluations() - k0;
