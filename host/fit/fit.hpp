@@ -23,8 +23,11 @@
 // Diagnostics, in words: a parameter at its range limit; a parameter with no effect; a flat objective
 // (moving a parameter by 5% of its range changes the error by < 0.1%) or a standard error over 10% of the range;
 // two parameters (or one and the scale) that trade off (|correlation| > 0.995); a target the model cannot
-// represent (rel-rms > 5%); and the limb check: the fit refitted over NoL, NoV >= 0.05 and compared, which
-// catches Minnaert-like laws whose value diverges at grazing angles and lets a few samples drive the fit.
+// represent (rel-rms > 5%); and the limb check: the fit refitted (float kernel) over NoL, NoV >= 0.05 and
+// compared; it is called limb-driven when the samples below the cut carry over 3x their share of the squared
+// error and the refit moves a parameter by over 0.1% of its range. That catches Minnaert-like laws whose value
+// diverges at grazing angles and lets a few samples drive the fit; the objective itself is never changed.
+// Parameter combinations a model refuses (its pack throws: toon's thresholds must ascend) are never evaluated.
 #pragma once
 #include <map>
 #include <memory>
