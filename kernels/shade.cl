@@ -117,3 +117,29 @@ __kernel void eval_directions(__global const float* restrict N_, __global const 
     out[3 * i + 1] = sl_finite_or_zero(r.g);
     out[3 * i + 2] = sl_finite_or_zero(r.b);
 }
+
+// ---- Batched evaluation for fitting (host/fit/) ----------------------------------------------------------------
+// Many parameter sets x many samples in one launch: work item (i, s) evaluates the model alone (no lights, no
+// ambient, as eval_directions) at sample i with constant set s. The parameters live in the __constant block,
+// not in the program, so every set shares this one build. Dimension 0 runs over the samples, so the set (and
+// with it every constant load) is the same for a whole work-group and hoisted out of the vectorised loop.
+//   dirs:  12 planes of `stride` floats: N.x N.y N.z L.x L.y L.z V.x V.y V.z P.x P.y P.z
+//   out:   3 planes (r, g, b) of `stride` floats per set: out[(3 s + c) stride + i]
+//   sets:  consts_per_set ModelConsts per set (the model's own, then its children's: gradient reads mc[1], mc[2])
+// No bounds check: the host pads the samples to the launch size (zero directions, whose values are never read).
+__kernel void eval_batch(__global const float* restrict dirs, __global float* restrict out, const uint stride,
+                         const uint consts_per_set, __constant const ModelConsts* sets) {
+    const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes dirs[i] a gather
+    const size_t s = get_global_id(1);
+    const size_t st = stride;
+    __constant const ModelConsts* mc = sets + s * consts_per_set;
+    const sl_v3 N = sl_v3_make(dirs[i], dirs[st + i], dirs[2 * st + i]);
+    const sl_v3 L = sl_v3_make(dirs[3 * st + i], dirs[4 * st + i], dirs[5 * st + i]);
+    const sl_v3 V = sl_v3_make(dirs[6 * st + i], dirs[7 * st + i], dirs[8 * st + i]);
+    const sl_v3 P = sl_v3_make(dirs[9 * st + i], dirs[10 * st + i], dirs[11 * st + i]);
+    const sl_rgb r = SL_EVAL(N, L, V, P, mc);
+    __global float* o = out + 3 * s * st;
+    o[i] = sl_finite_or_zero(r.r);
+    o[st + i] = sl_finite_or_zero(r.g);
+    o[2 * st + i] = sl_finite_or_zero(r.b);
+}

@@ -9,6 +9,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "plan/planner.hpp"
+#include "plan/substitute.hpp"
 #include "scene/scene.hpp"
 
 namespace shadelab::app {
@@ -20,6 +21,7 @@ void add_plan_command(CLI::App& app) {
         std::string metric = "de2000";
         int verify_pixels = 256 * 256;
         std::string json;
+        bool catalogue = false;
     };
     auto a = std::make_shared<Args>();
     auto* cmd = app.add_subcommand("plan", "Find the cheapest configuration of a scene whose image stays within a tolerance");
@@ -30,6 +32,9 @@ void add_plan_command(CLI::App& app) {
     cmd->add_option("--verify-pixels", a->verify_pixels, "Verification renders are reduced to about this many pixels")
         ->capture_default_str();
     cmd->add_option("--json", a->json, "Also write every candidate's figures as JSON here");
+    cmd->add_flag("--catalogue", a->catalogue,
+                  "Also search the catalogue per material: cheaper models fitted to each material on its own fragments, "
+                  "each verified against the double reference (host/plan/substitute.hpp)");
     cmd->callback([a] {
         const Scene s = load_scene(a->scene);
         const SceneGeometry geo = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
@@ -45,6 +50,11 @@ void add_plan_command(CLI::App& app) {
         std::cout << "scene " << a->scene << ": " << s.width << "x" << s.height << ", " << geo.meshes.size() << " mesh(es), "
                   << s.lights.size() << " light(s)\n"
                   << format_plan(p, o);
+        SubstitutionPlan sp;
+        if (a->catalogue) {
+            sp = plan_substitutions(rt, in, o);
+            std::cout << format_substitutions(sp, o);
+        }
         if (!a->json.empty()) {
             nlohmann::json j;
             j["scene"] = a->scene;
@@ -57,6 +67,20 @@ void add_plan_command(CLI::App& app) {
                 j["candidates"].push_back({{"config", c.config.label()}, {"de2000_max", c.de_max}, {"de2000_p99", c.de_p99},
                                            {"relative_max", c.rel_max}, {"time_ms", c.time_ms}, {"speedup", c.speedup},
                                            {"within", c.within}});
+            if (a->catalogue) {
+                for (const auto& it : sp.items) {
+                    nlohmann::json params = nlohmann::json::object();
+                    for (const auto& [k, v] : it.chosen.params) params[k] = v;
+                    j["substitutions"].push_back({{"mesh", it.item + 1}, {"requested", it.requested.model},
+                                                  {"chosen", it.chosen.model}, {"params", params},
+                                                  {"albedo", {it.chosen.albedo.x, it.chosen.albedo.y, it.chosen.albedo.z}},
+                                                  {"error", it.error}, {"fit_rel_rms", it.fit_rel_rms},
+                                                  {"model_speedup", it.model_speedup}});
+                }
+                j["catalogue"] = {{"error", sp.error}, {"within", sp.within}, {"speedup", sp.speedup},
+                                  {"requested_ms", sp.requested_ms}, {"chosen_ms", sp.chosen_ms},
+                                  {"planning_ms", sp.planning_ms}};
+            }
             write_text_atomically(a->json, "report", j.dump(2) + "\n");
         }
     });

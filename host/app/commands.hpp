@@ -23,6 +23,7 @@ void add_photometry_command(CLI::App& app);   // host/app/cmd_photometry.cpp
 // A model name typed on the command line: throws shadelab::UsageError (exit 2) naming `option`, with the closest
 // catalogue name as a hint, when it is unknown.
 void require_model_name(const std::string& name, const std::string& option);
+void add_fit_command(CLI::App& app);     // host/app/cmd_fit.cpp
 
 // Small parsers shared by the commands; each throws shadelab::Error naming the option and the text.
 glm::dvec3 parse_vec3(const std::string& text, const std::string& option);

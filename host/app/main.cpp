@@ -105,6 +105,7 @@ int main(int argc, char** argv) {
     shadelab::app::add_chart_command(app);
     shadelab::app::add_view_command(app);
     shadelab::app::add_photometry_command(app);
+    shadelab::app::add_fit_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -216,4 +216,92 @@ std::vector<float> Shader::eval_directions(const Material& material, const std::
     return out;
 }
 
+Shader::DeviceSamples Shader::upload_samples(const std::vector<float>& N, const std::vector<float>& L,
+                                             const std::vector<float>& V, const std::vector<float>& P) {
+    const std::size_t n = N.size() / 3;
+    if (N.size() != 3 * n || L.size() != 3 * n || V.size() != 3 * n || P.size() != 3 * n)
+        throw Error("upload_samples: N, L, V, P must all hold 3n floats");
+    if (n == 0) throw Error("upload_samples: no samples");
+    DeviceSamples d;
+    d.n = n;
+    d.stride = round_up(n, kLocalSize);
+    std::vector<float> planes(12 * d.stride, 0.0f);   // the padding: zero directions, values never read
+    const std::vector<float>* src[4] = {&N, &L, &V, &P};
+    for (int v = 0; v < 4; ++v)
+        for (int c = 0; c < 3; ++c)
+            for (std::size_t i = 0; i < n; ++i) planes[(3 * v + c) * d.stride + i] = (*src[v])[3 * i + c];
+    try {
+        d.dirs = cl::Buffer(rt_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, planes.size() * sizeof(float),
+                            planes.data());
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "uploading " + std::to_string(n) + " fit samples");
+    }
+    return d;
+}
+
+std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples& d,
+                                      const std::vector<ModelConsts>& consts, Precision precision, double* kernel_ms,
+                                      int planes) {
+    if (planes != 1 && planes != 3) throw Error("eval_batch: planes must be 1 or 3");
+    const ModelInfo& info = find_model(shape.model);
+    const std::size_t per_set = 1 + std::size_t(info.children);
+    if (consts.empty() || consts.size() % per_set != 0)
+        throw Error("eval_batch: " + std::to_string(consts.size()) + " constant blocks is not a whole number of sets of " +
+                    std::to_string(per_set) + " for model '" + shape.model + "'");
+    const std::size_t sets = consts.size() / per_set;
+    const std::size_t np = std::size_t(planes);
+    std::vector<float> out(np * d.n * sets);
+    if (kernel_ms) *kernel_ms = 0.0;
+    try {
+        // The same defines as Shader::shade with one directional light: one program serves both.
+        std::vector<std::string> defines = defines_for(shape, 1, precision);
+        defines.push_back("SL_ALL_DIRECTIONAL=1");
+        cl::Program prog = rt_.build("shade.cl", defines, options_for(precision));
+        cl::Kernel k(prog, "eval_batch");
+        auto& ctx = rt_.context();
+        auto& q = rt_.queue();
+        // Sets per launch: what fits the device's __constant buffer and about 64 MB of output.
+        const std::size_t const_bytes = rt_.device().getInfo<CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE>();
+        const std::size_t by_const = std::max<std::size_t>(1, const_bytes / (per_set * sizeof(ModelConsts)));
+        const std::size_t by_out = std::max<std::size_t>(1, (std::size_t(64) << 20) / (3 * d.stride * sizeof(float)));
+        const std::size_t chunk = std::min({sets, by_const, by_out});
+        const std::size_t plane_bytes = d.stride * sizeof(float);
+        if (batch_out_bytes_ < 3 * chunk * plane_bytes) {
+            batch_out_ = cl::Buffer(ctx, CL_MEM_WRITE_ONLY, 3 * chunk * plane_bytes);
+            batch_out_bytes_ = 3 * chunk * plane_bytes;
+        }
+        cl::Buffer& bout = batch_out_;
+        std::vector<float> host(d.stride == d.n ? 0 : 3 * chunk * d.stride);
+        for (std::size_t s0 = 0; s0 < sets; s0 += chunk) {
+            const std::size_t ns = std::min(chunk, sets - s0);
+            cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, ns * per_set * sizeof(ModelConsts),
+                               const_cast<ModelConsts*>(consts.data() + s0 * per_set));
+            k.setArg(0, d.dirs);
+            k.setArg(1, bout);
+            k.setArg(2, cl_uint(d.stride));
+            k.setArg(3, cl_uint(per_set));
+            k.setArg(4, bconsts);
+            cl::Event ev;
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(d.stride, ns), cl::NDRange(kLocalSize, 1), nullptr, &ev);
+            if (d.stride == d.n && np == 3) {   // the layouts agree: straight into `out`
+                q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, out.data() + 3 * s0 * d.n);
+            } else if (d.stride == d.n) {       // the red plane of each set
+                for (std::size_t s = 0; s < ns; ++s)
+                    q.enqueueReadBuffer(bout, CL_FALSE, 3 * s * plane_bytes, plane_bytes, out.data() + (s0 + s) * d.n);
+                q.finish();
+            } else {
+                q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, host.data());
+                for (std::size_t s = 0; s < ns; ++s)
+                    for (std::size_t c = 0; c < np; ++c)
+                        std::copy_n(host.begin() + (3 * s + c) * d.stride, d.n, out.begin() + (np * (s0 + s) + c) * d.n);
+            }
+            if (kernel_ms) *kernel_ms += ms_between(ev);
+        }
+    } catch (const cl::Error& e) {
+        rethrow_cl(e, "evaluating model '" + shape.model + "' for " + std::to_string(sets) + " parameter sets on " +
+                          std::to_string(d.n) + " samples");
+    }
+    return out;
+}
+
 }  // namespace shadelab

@@ -7,6 +7,7 @@
 
 #include "cl/runtime.hpp"
 #include "core/fragment_buffer.hpp"
+#include "models/catalogue.hpp"
 #include "models/material.hpp"
 
 namespace shadelab {
@@ -50,6 +51,22 @@ public:
                                        const std::vector<float>& L, const std::vector<float>& V,
                                        const std::vector<float>& P, Precision precision = Precision::Precise);
 
+    // Fitting (host/fit/): samples uploaded once, then the model alone (as eval_directions) at every sample for
+    // many constant sets per launch (kernels/shade.cl, eval_batch). N, L, V, P are xyz-interleaved, 3n floats.
+    struct DeviceSamples {
+        cl::Buffer dirs;              // 12 planes of `stride` floats: N, L, V, P by component
+        std::size_t n = 0, stride = 0;
+    };
+    DeviceSamples upload_samples(const std::vector<float>& N, const std::vector<float>& L,
+                                 const std::vector<float>& V, const std::vector<float>& P);
+    // `consts` holds one set after another, each pack_material(m) of a material of `shape`'s model (and
+    // children count): consts.size() = sets * (1 + children). Returns per set `planes` planes (1: red only,
+    // for grey fits; 3: r, g, b) of n floats, the sets one after another. `kernel_ms`, when given, gets the
+    // device time.
+    std::vector<float> eval_batch(const Material& shape, const DeviceSamples& samples,
+                                  const std::vector<ModelConsts>& consts, Precision precision = Precision::Precise,
+                                  double* kernel_ms = nullptr, int planes = 3);
+
     // The -D defines a material (and light count) is built with; also the program cache key.
     static std::vector<std::string> defines_for(const Material& resolved, int num_lights,
                                                 Precision precision = Precision::Precise);
@@ -61,6 +78,8 @@ public:
 
 private:
     Runtime& rt_;
+    cl::Buffer batch_out_;              // eval_batch's output, kept between calls (no fresh pages per launch)
+    std::size_t batch_out_bytes_ = 0;
 };
 
 }  // namespace shadelab
