@@ -83,6 +83,161 @@ SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
 }
 
 
+// ---- keeping LLVM's SLP vectoriser away ----------------------------------------------------------------------
+// Before PoCL builds its work-item loop, LLVM's SLP vectoriser packs two isomorphic, independent scalar
+// computations of one fragment (the same function of NoL and of NoV, the same step at two thresholds) into one
+// <2 x float> computation, and a single such instruction stops the loop vectoriser ("instruction return type
+// cannot be vectorized"): the whole model then runs one fragment at a time. sl_after(x, dep) is x, made to depend
+// on dep, so that a computation started from it cannot be bundled with the one that produced dep (a bundle's
+// members must be independent). x + 0 * dep cannot be folded under IEEE rules (0 * dep is NaN for an infinite or
+// NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign of a zero x).
+SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
+
+// ---- trigonometry: own, vectorisable ----------------------------------------------------------------------
+// PoCL 3.1's sin, cos, tan, asin, acos, atan and atan2 are library calls that its work-item loop vectoriser
+// cannot widen ("call instruction cannot be vectorized"): one call and the whole model runs one fragment at a
+// time (oren_nayar_full ran 25 Mfrag/s against 471 for oren_nayar). These are written in float arithmetic with
+// fma, integer bit operations and selects only: no tables, no data-dependent branches, no calls, so they are
+// widened with the model. Both precision modes map the built-in names to them (the macro blocks below), so a
+// model file writes plain OpenCL C (`acos(mu)`) and gets these. Measured error in ulps against double over
+// millions of arguments: docs/precision.md ("Own trigonometry") and tests/test_mathfn.cpp (asserted bounds).
+// Polynomials: the single-precision minimax coefficients of the Cephes library (S. L. Moshier, Cephes Math
+// Library 2.8: sinf.c, tanf.c, atanf.c, asinf.c), evaluated by Horner's scheme with fma.
+
+// x = k pi/2 + r, |r| <= pi/4 (a hair more at rounding ties), k returned as an int. Cody-Waite reduction with pi/2
+// in three floats (C1 + C2 + C3 = pi/2 to 1e-23): with fma, x - k C1 is exact (both are multiples of ulp(C1) and
+// the difference is below 2, so it fits 24 bits), and k (C2 + C3) is applied in two more fma steps. The error of
+// r is then about 2^-24 |r| + |k| 1e-23: below an ulp of r for |x| up to ~1e7 (asserted to 1e6, the largest a
+// catalogue model reaches: the gradient at its shortest period). k = rint(x 2/pi) by the 1.5 * 2^23 shift,
+// exact for |x 2/pi| < 2^22; beyond |x| ~ 6.6e6 the reduction loses accuracy and the callers only keep their
+// result inside the function's range (no bound is claimed there). Not finite x gives NaN.
+SL_INLINE float sl_reduce_pio2(float x, int* k) {
+    const float kf = (x * 0.636619772f + 12582912.0f) - 12582912.0f;   // rint(x * 2/pi)
+    *k = (int)kf;
+    float r = fma(-kf, 1.57079637f, x);        // C1 = float(pi/2), exact step
+    r = fma(-kf, -4.37113883e-8f, r);          // C2 = float(pi/2 - C1)
+    return fma(-kf, -1.71512451e-15f, r);      // C3 = float(pi/2 - C1 - C2)
+}
+
+// sin r and cos r for |r| <= pi/4 (Cephes sinf.c / cosf.c minimax polynomials in z = r^2).
+SL_INLINE float sl_sin_poly(float r) {
+    const float z = r * r;
+    return fma(fma(fma(-1.9515295891e-4f, z, 8.3321608736e-3f), z, -1.6666654611e-1f) * z, r, r);
+}
+SL_INLINE float sl_cos_poly(float r) {
+    const float z = r * r;
+    const float p = fma(fma(2.443315711809948e-5f, z, -1.388731625493765e-3f), z, 4.166664568298827e-2f);
+    return fma(p * z, z, fma(-0.5f, z, 1.0f));
+}
+
+// The sign bit set when bit 1 of q is set: the quadrant's sign as a mask to XOR into a float.
+SL_INLINE uint sl_quadrant_sign(int q) { return ((uint)q & 2u) << 30; }
+
+// sin x = (sin r, cos r, -sin r, -cos r) for k mod 4 = 0, 1, 2, 3. Both polynomials are evaluated and one is
+// selected: a branch on the quadrant would split the vectorised loop. The clamp to [-1, 1] only matters past
+// |x| ~ 6.6e6 (see sl_reduce_pio2), where it keeps the value a sine's.
+SL_INLINE float sl_sin(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float v = (k & 1) ? sl_cos_poly(r) : sl_sin_poly(r);
+    return clamp(as_float(as_uint(v) ^ sl_quadrant_sign(k)), -1.0f, 1.0f);
+}
+
+// cos x = (cos r, -sin r, -cos r, sin r) for k mod 4 = 0, 1, 2, 3: the sign of quadrant k + 1.
+SL_INLINE float sl_cos(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float v = (k & 1) ? sl_sin_poly(r) : sl_cos_poly(r);
+    return clamp(as_float(as_uint(v) ^ sl_quadrant_sign(k + 1)), -1.0f, 1.0f);
+}
+
+// tan x = tan r for even k, -1 / tan r for odd k (Cephes tanf.c polynomial, |r| <= pi/4). At a pole of tan
+// (x the float nearest an odd multiple of pi/2) r is a few 1e-8, never 0, so -1/tan r is large and finite.
+SL_INLINE float sl_tan(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float z = r * r;
+    const float p = fma(fma(fma(fma(fma(9.38540185543e-3f, z, 3.11992232697e-3f), z, 2.44301354525e-2f), z,
+                                5.34112807005e-2f), z, 1.33387994085e-1f), z, 3.33331568548e-1f);
+    const float t = fma(p * z, r, r);
+    return (k & 1) ? -1.0f / t : t;
+}
+
+// atan u for |u| <= tan(pi/8) = 0.4142 (Cephes atanf.c polynomial in z = u^2).
+SL_INLINE float sl_atan_poly(float u) {
+    const float z = u * u;
+    return fma(fma(fma(fma(8.05374449538e-2f, z, -1.38776856032e-1f), z, 1.99777106478e-1f), z,
+                   -3.33329491539e-1f) * z, u, u);
+}
+
+// atan(lo / hi) for 0 <= lo <= hi (an angle in [0, pi/4]) with one division: for lo / hi > tan(pi/8),
+//   atan(lo / hi) = pi/4 + atan((lo - hi) / (lo + hi))    (Cephes' reduction, atan t = pi/4 + atan((t-1)/(t+1)))
+// with the quotient formed from lo and hi directly. hi = 0 (lo = 0 too) gives 0, not 0/0: the denominator is
+// floored at the smallest denormal, which changes no other quotient. (A select "den > 0 ? num / den : 0"
+// becomes a branch around the division, and LLVM's SLP vectoriser packs the phis of two such branches side by
+// side, e.g. two atan2 in one model, into <2 x float>, which stops PoCL's loop vectoriser.)
+SL_INLINE float sl_atan_ratio(float lo, float hi) {
+    const int big = lo > 0.41421356f * hi;
+    const float num = big ? lo - hi : lo;
+    const float den = big ? lo + hi : hi;
+    const float u = num / fmax(den, 1.40129846e-45f);
+    return (big ? 0.785398163f : 0.0f) + sl_atan_poly(u);
+}
+
+// pi/2 - a and pi - a with pi/2 and pi in two floats (hi + lo), so that the constant adds no rounding of its own.
+SL_INLINE float sl_pio2_minus(float a) { return (1.57079637f - a) + -4.37113883e-8f; }
+SL_INLINE float sl_pi_minus(float a) { return (3.14159274f - a) + -8.74227766e-8f; }
+
+// atan2(y, x): the angle of (x, y) in [-pi, pi]. From a = atan(min / max) of |x| and |y|: pi/2 - a when |y| >
+// |x|, pi - that when x < 0, with the sign of y. atan2(+-0, x) = +-0 for x >= 0 (including -0: OpenCL gives pi
+// for x = -0; no model passes a signed zero that way) and +-pi for x < 0; atan2(0, 0) = 0.
+SL_INLINE float sl_atan2(float y, float x) {
+    // |y| as fmax(y, -y), not fabs: two fabs side by side are what LLVM's SLP vectoriser packs into one
+    // <2 x float> operation, which stops PoCL's loop vectoriser (fmax(y, -y) = |y|; a NaN y gives -y, a NaN).
+    const float ax = fabs(x), ay = fmax(y, -y);
+    float a = sl_atan_ratio(fmin(ax, ay), fmax(ax, ay));
+    a = ay > ax ? sl_pio2_minus(a) : a;
+    a = x < 0.0f ? sl_pi_minus(a) : a;
+    return copysign(a, y);
+}
+
+// atan x = atan2(x, 1).
+SL_INLINE float sl_atan(float x) { return sl_atan2(x, 1.0f); }
+
+// asin x for |x| <= 1 (Cephes asinf.c): |x| <= 1/2: the polynomial in z = x^2; |x| > 1/2:
+//   asin |x| = pi/2 - 2 asin(s),  s = sqrt((1 - |x|) / 2) <= 1/2
+// (1 - |x| is exact there, so the result keeps its accuracy as |x| -> 1). Both inputs go through the same
+// polynomial; |x| > 1 gives NaN (sqrt of a negative), as asin does.
+SL_INLINE float sl_asin_poly(float s) {
+    const float z = s * s;
+    const float p = fma(fma(fma(fma(4.2163199048e-2f, z, 2.4181311049e-2f), z, 4.5470025998e-2f), z,
+                            7.4953002686e-2f), z, 1.6666752422e-1f);
+    return fma(p * z, s, s);
+}
+// Both forms' inputs are computed, then one is selected: "big ? sqrt(.) : x" would be compiled as a branch
+// around the sqrt, whose phi LLVM's SLP vectoriser pairs with the phi of a second call (see sl_atan_ratio).
+SL_INLINE float sl_asin(float x) {
+    const float ax = fabs(x);
+    const int big = ax > 0.5f;
+    const float s_big = sqrt(fmax(0.5f * (1.0f - ax), 0.0f));   // fmax: |x| > 1 gives asin's NaN below
+    const float s = big ? s_big : ax;
+    const float p = sl_asin_poly(s);
+    return copysign(big ? sl_pio2_minus(2.0f * p) : p, x);
+}
+
+// acos x for |x| <= 1: pi/2 - asin x for |x| <= 1/2; for |x| > 1/2 from s = sqrt((1 - |x|) / 2),
+//   acos x = 2 asin(s) (x > 0),  pi - 2 asin(s) (x < 0),
+// which keeps acos accurate near x = 1, where pi/2 - asin x would cancel (acos(1 - d) ~ sqrt(2 d)).
+SL_INLINE float sl_acos(float x) {
+    const float ax = fabs(x);
+    const int big = ax > 0.5f;
+    const float s_big = sqrt(fmax(0.5f * (1.0f - ax), 0.0f));   // as in sl_asin
+    const float s = big ? s_big : x;
+    const float p = sl_asin_poly(s);
+    const float near_one = x > 0.0f ? 2.0f * p : sl_pi_minus(2.0f * p);
+    return big ? near_one : sl_pio2_minus(p);
+}
+
 // ---- pow in precise mode --------------------------------------------------------------------------------
 // PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with
 // a micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s). sl_pow computes
@@ -142,6 +297,26 @@ SL_INLINE float sl_pow(float x, float y) {
     v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
     return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
+#endif
+
+// Both modes: the trigonometric built-ins are the own functions above (vectorisable; PoCL's are calls). Fast mode
+// has no cheaper trigonometry of its own: it is the same code as precise mode here (PoCL's native_sin/cos/tan
+// are calls as well, and lose their argument reduction past 5e4 rad). SL_BUILTIN_TRIG keeps PoCL's.
+#ifndef SL_BUILTIN_TRIG
+#undef sin
+#undef cos
+#undef tan
+#undef asin
+#undef acos
+#undef atan
+#undef atan2
+#define sin(x) sl_sin(x)
+#define cos(x) sl_cos(x)
+#define tan(x) sl_tan(x)
+#define asin(x) sl_asin(x)
+#define acos(x) sl_acos(x)
+#define atan(x) sl_atan(x)
+#define atan2(y, x) sl_atan2((y), (x))
 #endif
 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
@@ -215,12 +390,6 @@ SL_INLINE float sl_fast_pow(float x, float y) {
     v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
     return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
-// PoCL's native_sin/cos/tan lose their argument reduction past about 5e4 rad (measured: cos off by 0.023 in
-// [1e5, 1e6]); only a gradient blend with a tiny period reaches there. Large arguments take the full functions.
-SL_INLINE float sl_fast_sin(float x) { return fabs(x) < 3.0e4f ? native_sin(x) : sin(x); }
-SL_INLINE float sl_fast_cos(float x) { return fabs(x) < 3.0e4f ? native_cos(x) : cos(x); }
-SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) : tan(x); }
-// PoCL's own headers already define most built-ins as macros: undefine them first (no redefinition warnings).
 #undef pow
 #undef powr
 #undef exp
@@ -229,9 +398,6 @@ SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) :
 #undef log2
 #undef sqrt
 #undef rsqrt
-#undef sin
-#undef cos
-#undef tan
 #define pow(x, y) sl_fast_pow((x), (y))
 #define powr(x, y) sl_fast_pow((x), (y))
 #define exp(x) native_exp(x)
@@ -240,9 +406,6 @@ SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) :
 #define log2(x) native_log2(x)
 #define sqrt(x) native_sqrt(x)
 #define rsqrt(x) native_rsqrt(x)
-#define sin(x) sl_fast_sin(x)
-#define cos(x) sl_fast_cos(x)
-#define tan(x) sl_fast_tan(x)
 #define divide(x, y) native_divide((x), (y))
 #elif defined(SL_HAVE_SL_POW)
 #undef pow
