@@ -238,18 +238,136 @@ SL_INLINE float sl_acos(float x) {
     return big ? near_one : sl_pio2_minus(p);
 }
 
-// ---- pow in precise mode --------------------------------------------------------------------------------
-// PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with
-// a micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s). sl_pow computes
-//   x^y = 2^(y log2 x)
-// in double: log2 by the atanh series, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute,
-// where float would lose up to 2^-17 and so ~1e-5 relative), 2^t by Taylor series. Every step is accurate to
-// ~1e-11 relative, so the float result is the correctly rounded x^y except within ~1e-11 of a rounding
-// boundary (measured over a dense sweep: docs/precision.md). No tables, no branches: it vectorises wherever
-// the calling kernel does. Devices without cl_khr_fp64 (or a build with -DSL_BUILTIN_POW) keep the built-in.
-#if defined(cl_khr_fp64) && !defined(SL_BUILTIN_POW)
+// ---- pow: three forms --------------------------------------------------------------------------------------
+// PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with a
+// micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s): they are calls the work-
+// item loop vectoriser cannot widen. All three forms here compute
+//   x^y = 2^(y log2 x),  x = 2^e m,  m in [sqrt(1/2), sqrt(2)),
+//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + s^5/5 + ...),  s = (m - 1) / (m + 1),  |s| <= 0.1716
+// (Abramowitz & Stegun 4.1.27), 2^t = 2^k e^(f ln 2) with k = rint(t) by Taylor series, with no tables, no
+// data-dependent branches and no calls, so they vectorise with the model. They differ in how much of
+// y log2 x they keep, which sets the error: a rounding dt of t = y log2 x is a relative error ln 2 dt of the
+// result, and a float t is rounded to 2^-24 |t|, |t| = -log2(result) (up to 126 for results near 2^-126).
+//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.7 ulp for results
+//               in [2^-10, 1], 5.5 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
+//   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there)
+//   sl_pow_cr   double arithmetic, correctly rounded over the whole sweep (0.5 ulp)
+// Which one a mode uses depends on the device, by measurement (docs/precision.md, "pow"). On a device with
+// 512-bit vectors (__AVX512F__, which PoCL's compiler defines for such a CPU) the loop vectoriser runs 8 lanes
+// in 256-bit float registers and 8 double lanes fill one 512-bit register, so the double form costs about the
+// same instructions as the float ones: measured there, sl_pow_cr ran 1.7-2.1x sl_pow and 1.5-1.8x sl_fast_pow
+// (micro-kernel, 8M powers, interleaved, best of 25). It is then both the fastest and correctly rounded, and
+// both modes use it: fast mode has nothing faster on such a device and is the same code as precise
+// (SL_FAST_POW_SAME). Elsewhere (AVX2: double lanes are half as wide) precise mode uses sl_pow, fast mode
+// sl_fast_pow. -DSL_POW_CR forces sl_pow_cr in precise mode (a model whose conditioning needs a correctly
+// rounded power; none in the catalogue does: every model's error bound holds with sl_pow), -DSL_FLOAT_POW
+// forces the float forms, -DSL_BUILTIN_POW keeps PoCL's pow.
+
+// Special cases, as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x),
+// pow(1, y) = 1, pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative
+// base gives NaN (the models never use one: they clamp bases, or select the value away where the base is
+// negative), and so does a NaN argument. r is the value of the formula for the other (finite, positive) bases.
+SL_INLINE float sl_pow_special(float x, float y, float r) {
+    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
+    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
+    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
+    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
+    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
+}
+
+// x = 2^e m with m in [sqrt(1/2), sqrt(2)) for finite x > 0, denormals included (scaled by 2^24 first);
+// returns m and sets *e.
+SL_INLINE float sl_split_log2(float x, float* e) {
+    const int sub = x < 1.17549435e-38f;
+    const int bits = as_int(sub ? x * 16777216.0f : x);
+    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
+    const int big = m0 > 1.41421356f;
+    *e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
+    return big ? 0.5f * m0 : m0;
+}
+
+// 2^k as a product of two exponent-field factors, so that k down to -149 (denormal results) needs no special path.
+SL_INLINE float sl_scale_exp2(float p, float k) {
+    const int ki = (int)k, k1 = ki >> 1;   // floor(k / 2): the two factors still multiply to 2^k
+    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
+}
+
+// e^g for |g| <= 0.35 by its Taylor series to g^7/7! (remainder < 6e-9 relative), Estrin's scheme.
+SL_INLINE float sl_exp_taylor7(float g) {
+    const float g2 = g * g, g4 = g2 * g2;
+    return fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
+           g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
+}
+
+// ---- sl_pow (precise mode): float, the exponent as a float-float pair
+
+// log2 x = hi + lo for finite x > 0, the atanh series to s^9/9 (first omitted term, s^10/11 relative, < 2.1e-9
+// of the sum). The leading term (2 / ln 2) s is formed in float-float: s from the division's fma residual (its
+// low part s_lo = residual / b, with 1 / b = (1 - s) / 2 exactly for s = (m - 1)/(m + 1), so no second division;
+// s_lo is 2^-24 of s, so the rounding of (1 - s) / 2 does not matter), 2 / ln 2 as two floats. The tail of the
+// series (below 1% of the sum) in float; lo carries the roundings of hi.
+SL_INLINE float sl_log2_ff(float x, float* lo) {
+    float e;
+    const float m = sl_split_log2(x, &e);
+    const float a = m - 1.0f;                                   // exact
+    const float b = m + 1.0f, b_lo = m - (b - 1.0f);            // m + 1 = b + b_lo exactly
+    const float s = a / b;
+    const float s_lo = (fma(-s, b, a) - s * b_lo) * fma(-0.5f, s, 0.5f);   // a / (b + b_lo) - s
+    const float s2 = s * s, s4 = s2 * s2;
+    // Estrin: s^2/3 + s^4 (1/5 + s^2/7 + s^4/9)
+    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
+    const float c_hi = 2.88539004f, c_lo = 3.85192598e-8f;      // 2 / ln 2 = c_hi + c_lo
+    const float p = c_hi * s, p_lo = fma(c_hi, s, -p);        // c_hi s = p + p_lo exactly
+    const float tail_p = p * tail;                              // below 1% of p
+    const float l_hi = p + tail_p;
+    const float l_lo = ((p - l_hi) + tail_p) + (p_lo + c_lo * s + c_hi * s_lo);
+    const float hi = e + l_hi;                                  // |e| >= 1 > |l_hi| or e = 0: exact remainder
+    *lo = (l_hi - (hi - e)) + l_lo;
+    return hi;
+}
+
+// 2^(t + t_lo) for t clamped to [-160, 130] (beyond the float range either way): k = rint(t) by the 1.5 * 2^23
+// shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
+SL_INLINE float sl_exp2_ff(float t, float t_lo) {
+    t = fmin(fmax(t, -160.0f), 130.0f);
+    const float k = (t + 12582912.0f) - 12582912.0f;
+    return sl_scale_exp2(sl_exp_taylor7(((t - k) + t_lo) * 0.693147181f), k);
+}
+
+SL_INLINE float sl_pow(float x, float y) {
+    float l_lo;
+    const float l = sl_log2_ff(x, &l_lo);
+    const float t = y * l;
+    return sl_pow_special(x, y, sl_exp2_ff(t, fma(y, l, -t) + y * l_lo));   // t + t_lo = y (l + l_lo)
+}
+
+// ---- sl_fast_pow (fast mode): plain float
+
+// log2 x for finite x > 0: the same series in plain float, (2 / ln 2)(s + s^3 tail), one division.
+SL_INLINE float sl_log2_f(float x) {
+    float e;
+    const float m = sl_split_log2(x, &e);
+    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s, s4 = s2 * s2;
+    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
+    return fma(2.88539004f * s, tail, 2.88539004f * s) + e;
+}
+
+// 2^t for t clamped to [-160, 130], as sl_exp2_ff without the low part.
+SL_INLINE float sl_exp2_f(float t) {
+    t = fmin(fmax(t, -160.0f), 130.0f);
+    const float k = (t + 12582912.0f) - 12582912.0f;
+    return sl_scale_exp2(sl_exp_taylor7((t - k) * 0.693147181f), k);
+}
+
+SL_INLINE float sl_fast_pow(float x, float y) { return sl_pow_special(x, y, sl_exp2_f(y * sl_log2_f(x))); }
+
+// ---- sl_pow_cr: double, correctly rounded over the sweep in docs/precision.md
+// log2 x in double, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute), 2^t by Taylor series:
+// every step is accurate to ~1e-11 relative, so the float result is the correctly rounded x^y except within
+// ~1e-11 of a rounding boundary.
+#if defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
-#define SL_HAVE_SL_POW 1
+#define SL_HAVE_POW_CR 1
 
 // log2 x for finite x > 0 (float denormals are normal doubles). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
 //   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + ... + s^13/13),  s = (m - 1) / (m + 1),
@@ -285,17 +403,8 @@ SL_INLINE double sl_exp2_d(double t) {
     return p * as_double((as_long(shifted) + 1023L) << 52);
 }
 
-// x^y as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x), pow(1, y) = 1,
-// pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative base gives
-// NaN (as fast mode always did; the models never use one: they clamp bases, or select the value away where
-// the base is negative), and so does a NaN argument.
-SL_INLINE float sl_pow(float x, float y) {
-    const float r = (float)sl_exp2_d((double)y * sl_log2_d((double)x));
-    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
-    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
-    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
-    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
-    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
+SL_INLINE float sl_pow_cr(float x, float y) {
+    return sl_pow_special(x, y, (float)sl_exp2_d((double)y * sl_log2_d((double)x)));
 }
 #endif
 
@@ -320,86 +429,19 @@ SL_INLINE float sl_pow(float x, float y) {
 #endif
 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
-// implementations, ~1-4 ulp), except pow and powr, which are sl_pow above (0.5 ulp, and 10-50x faster than
-// PoCL's pow). SL_FAST ("fast") maps them to the hardware-speed native_ forms and pow to sl_fast_pow (float,
-// no double arithmetic), accepting larger error; the error of every model in fast mode is measured against the
-// double reference and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
+// implementations, ~1-4 ulp), except the trigonometry (above) and pow and powr (sl_pow_cr or sl_pow by device,
+// above; PoCL's pow is a call, 100x slower). SL_FAST ("fast") maps exp, log, sqrt and rsqrt to the native_ forms
+// (the same code as the full ones on PoCL's CPU driver) and pow to sl_fast_pow where that is faster (above),
+// accepting larger error; the error of every model in fast mode is measured against the double reference and
+// documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
 #ifdef SL_FAST
-// Fast pow: x^y = 2^(y log2 x) in float, with y log2 x carried as a float-float pair (hi + lo) so that its
-// rounding does not cost the result ln 2 |y log2 x| 2^-24 of relative error (what exp2(y * log2(x)) loses: up
-// to 115 ulp for results near 2^-126). No tables, no data-dependent branches, no calls: it vectorises with
-// its model (PoCL's float log2 and exp2 are calls the loop vectoriser cannot widen). Measured error in
-// docs/precision.md (layer 1, and bounded in tests/test_precision.cpp).
-
-// log2 x = hi + lo for finite x > 0 (denormals included). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
-//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) s (1 + s^2/3 + s^4/5 + s^6/7 + s^8/9),  s = (m - 1) / (m + 1),
-// |s| <= 0.1716; the first omitted term, s^10/11, is < 2.1e-9 of the sum (Abramowitz & Stegun 4.1.27).
-// The leading term (2 / ln 2) s is formed in float-float (s from the division's fma residual, 2 / ln 2 as two
-// floats), the polynomial's tail (below 1% of it) in float; lo carries the roundings of hi.
-SL_INLINE float sl_fast_log2(float x, float* lo) {
-    const int sub = x < 1.17549435e-38f;                      // denormal: scale by 2^24 first
-    const int bits = as_int(sub ? x * 16777216.0f : x);
-    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
-    const int big = m0 > 1.41421356f;
-    const float m = big ? 0.5f * m0 : m0;
-    const float e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
-    const float a = m - 1.0f;                                   // exact
-    const float b = m + 1.0f, b_lo = m - (b - 1.0f);            // m + 1 = b + b_lo exactly
-    const float s = a / b;
-    const float s_lo = (fma(-s, b, a) - s * b_lo) / b;          // a / (b + b_lo) - s
-    const float s2 = s * s, s4 = s2 * s2;
-    // Estrin: s^2/3 + s^4 (1/5 + s^2/7 + s^4/9)
-    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
-    const float c_hi = 2.88539004f, c_lo = 3.85192598e-8f;      // 2 / ln 2 = c_hi + c_lo
-    const float p = c_hi * s, p_lo = fma(c_hi, s, -p);        // c_hi s = p + p_lo exactly
-    const float tail_p = p * tail;                              // below 1% of p
-    const float l_hi = p + tail_p;
-    const float l_lo = ((p - l_hi) + tail_p) + (p_lo + c_lo * s + c_hi * s_lo);
-    const float hi = e + l_hi;                                  // |e| >= 1 > |l_hi| or e = 0: exact remainder
-    *lo = (l_hi - (hi - e)) + l_lo;
-    return hi;
-}
-
-// 2^(t + t_lo) in float for t clamped to [-160, 130] (beyond the float range either way): t = k + f,
-// k = rint(t), f = (t - k) + t_lo, 2^f = e^g, g = f ln 2, |g| <= 0.35, by its Taylor series to g^7/7!
-// (remainder < 6e-9 relative), scaled by 2^k in two exponent-field factors (so that results down to the
-// denormals need no special path). rint by the 1.5 * 2^23 shift.
-SL_INLINE float sl_fast_exp2(float t, float t_lo) {
-    t = fmin(fmax(t, -160.0f), 130.0f);
-    const float shifted = t + 12582912.0f;   // 1.5 * 2^23: k in the low mantissa bits
-    const float k = shifted - 12582912.0f;
-    const float g = ((t - k) + t_lo) * 0.693147181f, g2 = g * g, g4 = g2 * g2;
-    // Estrin over the Taylor coefficients 1/i!, i = 0..7
-    const float p = fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
-                    g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
-    const int ki = (int)k, k1 = ki / 2;
-    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
-}
-
-// Special cases as sl_pow: pow(x, 0) = 1, pow(1, y) = 1, pow(0, y) = 0 / +inf for y > 0 / < 0,
-// pow(+inf, y) = +inf / 0; a negative base or a NaN gives NaN.
-SL_INLINE float sl_fast_pow(float x, float y) {
-    float l_lo;
-    const float l = sl_fast_log2(x, &l_lo);
-    const float t = y * l;
-    const float r = sl_fast_exp2(t, fma(y, l, -t) + y * l_lo);
-    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
-    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
-    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
-    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
-    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
-}
-#undef pow
-#undef powr
 #undef exp
 #undef exp2
 #undef log
 #undef log2
 #undef sqrt
 #undef rsqrt
-#define pow(x, y) sl_fast_pow((x), (y))
-#define powr(x, y) sl_fast_pow((x), (y))
 #define exp(x) native_exp(x)
 #define exp2(x) native_exp2(x)
 #define log(x) native_log(x)
@@ -407,7 +449,28 @@ SL_INLINE float sl_fast_pow(float x, float y) {
 #define sqrt(x) native_sqrt(x)
 #define rsqrt(x) native_rsqrt(x)
 #define divide(x, y) native_divide((x), (y))
-#elif defined(SL_HAVE_SL_POW)
+#endif
+
+// pow in each mode (see "pow: three forms" above for why the device decides).
+#if defined(SL_HAVE_POW_CR) && defined(__AVX512F__) && !defined(SL_FLOAT_POW)
+#define SL_POW_CR_FASTEST 1
+#endif
+#if defined(SL_FAST) && defined(SL_POW_CR_FASTEST)
+#define SL_FAST_POW_SAME 1   // fast mode's pow is precise mode's: nothing faster on this device
+#endif
+#if defined(SL_BUILTIN_POW)
+// PoCL's own pow and powr
+#elif defined(SL_HAVE_POW_CR) && (defined(SL_POW_CR_FASTEST) || (defined(SL_POW_CR) && !defined(SL_FAST)))
+#undef pow
+#undef powr
+#define pow(x, y) sl_pow_cr((x), (y))
+#define powr(x, y) sl_pow_cr((x), (y))
+#elif defined(SL_FAST)
+#undef pow
+#undef powr
+#define pow(x, y) sl_fast_pow((x), (y))
+#define powr(x, y) sl_fast_pow((x), (y))
+#else
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow((x), (y))

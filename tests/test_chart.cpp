@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "support.hpp"
 #include "core/text.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
@@ -93,10 +94,13 @@ TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow a
         // (Delta E of errors near 1e-6 is rounding noise in either direction, so it is printed, not compared.)
         CHECK(f.error.rel_max <= 1.25 * p.error.rel_max);
         CHECK(f.error.rel_p99 <= 1.25 * p.error.rel_p99);
-        // ... and fast mode really took effect: otherwise the comparison above would be one program with itself.
+        // ... and fast mode really took effect where its pow is another function: otherwise the comparison above
+        // would be one program with itself. Where fast mode's pow is precise mode's (kernels/common.cl: a device
+        // with 512-bit vectors) the two builds are the same code and must give the same pixels.
         const Image a = s.kernel_image(chart_material(model), Precision::Precise);
         const Image b = s.kernel_image(chart_material(model), Precision::Fast);
-        CHECK(a.pixels != b.pixels);
+        if (test::fast_pow_differs(rt)) CHECK(a.pixels != b.pixels);
+        else CHECK(a.pixels == b.pixels);
     }
 }
 
