@@ -255,8 +255,8 @@ SL_INLINE float sl_acos(float x) {
 // Which one a mode uses depends on the device, by measurement (docs/precision.md, "pow"). On a device with
 // 512-bit vectors (__AVX512F__, which PoCL's compiler defines for such a CPU) the loop vectoriser runs 8 lanes
 // in 256-bit float registers and 8 double lanes fill one 512-bit register, so the double form costs about the
-// same instructions as the float ones: measured there, sl_pow_cr ran 1.7-2.1x sl_pow and 1.5-1.8x sl_fast_pow
-// (micro-kernel, 8M powers, interleaved, best of 25). It is then both the fastest and correctly rounded, and
+// same instructions as the float ones: measured there, sl_pow_cr ran 1.7-2.1x sl_pow and 1.5-2.0x sl_fast_pow
+// (micro-kernel, 8M powers, interleaved, best of 25, five runs). It is then both the fastest and correctly rounded, and
 // both modes use it: fast mode has nothing faster on such a device and is the same code as precise
 // (SL_FAST_POW_SAME). Elsewhere (AVX2: double lanes are half as wide) precise mode uses sl_pow, fast mode
 // sl_fast_pow. -DSL_POW_CR forces sl_pow_cr in precise mode (a model whose conditioning needs a correctly
