@@ -263,6 +263,12 @@ SL_INLINE float sl_acos(float x) {
 // rounded power; none in the catalogue does: every model's error bound holds with sl_pow), -DSL_FLOAT_POW
 // forces the float forms, -DSL_BUILTIN_POW keeps PoCL's pow.
 
+// Results below 2^-126 (denormal floats, under 1.2e-38) are 0 in all three forms (flush to zero, which OpenCL 1.2
+// allows for single precision: CL_FP_DENORM is optional). Why: on x86 an operation that produces or reads a
+// denormal takes a microcode assist (of the order of 100 cycles for the whole vector), and a highlight's NoH^n
+// is that small for a band of fragments: with denormal powers blinn_phong ran 60-100 Mfrag/s, flushed 180-390
+// (bench_models, 1M fragments, alternating runs). No pixel can show such a value.
+
 // Special cases, as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x),
 // pow(1, y) = 1, pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative
 // base gives NaN (the models never use one: they clamp bases, or select the value away where the base is
@@ -286,7 +292,7 @@ SL_INLINE float sl_split_log2(float x, float* e) {
     return big ? 0.5f * m0 : m0;
 }
 
-// 2^k as a product of two exponent-field factors, so that k down to -149 (denormal results) needs no special path.
+// 2^k as a product of two exponent-field factors (each normal for k in [-126, 130]).
 SL_INLINE float sl_scale_exp2(float p, float k) {
     const int ki = (int)k, k1 = ki >> 1;   // floor(k / 2): the two factors still multiply to 2^k
     return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
@@ -326,12 +332,15 @@ SL_INLINE float sl_log2_ff(float x, float* lo) {
     return hi;
 }
 
-// 2^(t + t_lo) for t clamped to [-160, 130] (beyond the float range either way): k = rint(t) by the 1.5 * 2^23
-// shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
+// 2^(t + t_lo) for t in [-126, 130] (0 below: flush to zero; clamped above, beyond the float range):
+// k = rint(t) by the 1.5 * 2^23 shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
 SL_INLINE float sl_exp2_ff(float t, float t_lo) {
-    t = fmin(fmax(t, -160.0f), 130.0f);
-    const float k = (t + 12582912.0f) - 12582912.0f;
-    return sl_scale_exp2(sl_exp_taylor7(((t - k) + t_lo) * 0.693147181f), k);
+    // Clamped to [-126, 130]: below -126 the result is flushed to zero (above), and clamping there (not lower)
+    // keeps every lane's scaled value a normal float, so no lane computes a denormal it then throws away.
+    const float tc = fmin(fmax(t, -126.0f), 130.0f);
+    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float r = sl_scale_exp2(sl_exp_taylor7(((tc - k) + t_lo) * 0.693147181f), k);
+    return t < -126.0f ? 0.0f : r;
 }
 
 SL_INLINE float sl_pow(float x, float y) {
@@ -352,11 +361,12 @@ SL_INLINE float sl_log2_f(float x) {
     return fma(2.88539004f * s, tail, 2.88539004f * s) + e;
 }
 
-// 2^t for t clamped to [-160, 130], as sl_exp2_ff without the low part.
+// 2^t as sl_exp2_ff without the low part.
 SL_INLINE float sl_exp2_f(float t) {
-    t = fmin(fmax(t, -160.0f), 130.0f);
-    const float k = (t + 12582912.0f) - 12582912.0f;
-    return sl_scale_exp2(sl_exp_taylor7((t - k) * 0.693147181f), k);
+    const float tc = fmin(fmax(t, -126.0f), 130.0f);   // as in sl_exp2_ff
+    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float r = sl_scale_exp2(sl_exp_taylor7((tc - k) * 0.693147181f), k);
+    return t < -126.0f ? 0.0f : r;
 }
 
 SL_INLINE float sl_fast_pow(float x, float y) { return sl_pow_special(x, y, sl_exp2_f(y * sl_log2_f(x))); }
@@ -404,7 +414,9 @@ SL_INLINE double sl_exp2_d(double t) {
 }
 
 SL_INLINE float sl_pow_cr(float x, float y) {
-    return sl_pow_special(x, y, (float)sl_exp2_d((double)y * sl_log2_d((double)x)));
+    const double t = (double)y * sl_log2_d((double)x);
+    // flush to zero (see above), selected in double: converting a double below 2^-126 would itself take the assist
+    return sl_pow_special(x, y, (float)(t < -126.0 ? 0.0 : sl_exp2_d(t)));
 }
 #endif
 
