@@ -248,26 +248,22 @@ SL_INLINE float sl_acos(float x) {
 // data-dependent branches and no calls, so they vectorise with the model. They differ in how much of
 // y log2 x they keep, which sets the error: a rounding dt of t = y log2 x is a relative error ln 2 dt of the
 // result, and a float t is rounded to 2^-24 |t|, |t| = -log2(result) (up to 126 for results near 2^-126).
-//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.7 ulp for results
-//               in [2^-10, 1], 5.5 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
+//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.8 ulp for results
+//               >= 2^-10, 4.1 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
 //   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there)
 //   sl_pow_cr   double arithmetic, correctly rounded over the whole sweep (0.5 ulp)
-// Which one a mode uses depends on the device, by measurement (docs/precision.md, "pow"). On a device with
-// 512-bit vectors (__AVX512F__, which PoCL's compiler defines for such a CPU) the loop vectoriser runs 8 lanes
-// in 256-bit float registers and 8 double lanes fill one 512-bit register, so the double form costs about the
-// same instructions as the float ones: measured there, sl_pow_cr ran 1.7-2.1x sl_pow and 1.5-2.0x sl_fast_pow
-// (micro-kernel, 8M powers, interleaved, best of 25, five runs). It is then both the fastest and correctly rounded, and
-// both modes use it: fast mode has nothing faster on such a device and is the same code as precise
-// (SL_FAST_POW_SAME). Elsewhere (AVX2: double lanes are half as wide) precise mode uses sl_pow, fast mode
-// sl_fast_pow. -DSL_POW_CR forces sl_pow_cr in precise mode (a model whose conditioning needs a correctly
-// rounded power; none in the catalogue does: every model's error bound holds with sl_pow), -DSL_FLOAT_POW
-// forces the float forms, -DSL_BUILTIN_POW keeps PoCL's pow.
+// Precise mode uses sl_pow, fast mode sl_fast_pow, by measurement in the models (bench_models, 1M fragments,
+// three alternating runs on this project's AVX-512 host, medians): precise Mfrag/s with sl_pow / sl_pow_cr:
+// minnaert_1941 245 / 219, phong 233 / 219, blinn_phong 199 / 192, minnaert_b 162 / 150, toon 324 / 143; fast
+// mode's sl_fast_pow: 262, 247, 219, 385, 184 (docs/precision.md, "pow"). -DSL_POW_CR makes precise mode use
+// sl_pow_cr, for a model whose conditioning needs a correctly rounded power; none in the catalogue does (every
+// model's error bound holds with sl_pow). -DSL_BUILTIN_POW keeps PoCL's pow.
 
 // Results below 2^-126 (denormal floats, under 1.2e-38) are 0 in all three forms (flush to zero, which OpenCL 1.2
 // allows for single precision: CL_FP_DENORM is optional). Why: on x86 an operation that produces or reads a
 // denormal takes a microcode assist (of the order of 100 cycles for the whole vector), and a highlight's NoH^n
-// is that small for a band of fragments: with denormal powers blinn_phong ran 60-100 Mfrag/s, flushed 180-390
-// (bench_models, 1M fragments, alternating runs). No pixel can show such a value.
+// is that small for a band of fragments: with denormal powers blinn_phong ran 77-80 Mfrag/s, flushed 180-191
+// (bench_models, 1M fragments, three alternating runs). No pixel can show such a value.
 
 // Special cases, as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x),
 // pow(1, y) = 1, pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative
@@ -441,9 +437,9 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 #endif
 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
-// implementations, ~1-4 ulp), except the trigonometry (above) and pow and powr (sl_pow_cr or sl_pow by device,
-// above; PoCL's pow is a call, 100x slower). SL_FAST ("fast") maps exp, log, sqrt and rsqrt to the native_ forms
-// (the same code as the full ones on PoCL's CPU driver) and pow to sl_fast_pow where that is faster (above),
+// implementations, ~1-4 ulp), except the trigonometry (above) and pow and powr (sl_pow, above; PoCL's pow is
+// a call, 100x slower). SL_FAST ("fast") maps exp, log, sqrt and rsqrt to the native_ forms (the same code as
+// the full ones on PoCL's CPU driver) and pow to sl_fast_pow (plain float),
 // accepting larger error; the error of every model in fast mode is measured against the double reference and
 // documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
@@ -463,25 +459,19 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 #define divide(x, y) native_divide((x), (y))
 #endif
 
-// pow in each mode (see "pow: three forms" above for why the device decides).
-#if defined(SL_HAVE_POW_CR) && defined(__AVX512F__) && !defined(SL_FLOAT_POW)
-#define SL_POW_CR_FASTEST 1
-#endif
-#if defined(SL_FAST) && defined(SL_POW_CR_FASTEST)
-#define SL_FAST_POW_SAME 1   // fast mode's pow is precise mode's: nothing faster on this device
-#endif
+// pow in each mode (see "pow: three forms" above).
 #if defined(SL_BUILTIN_POW)
 // PoCL's own pow and powr
-#elif defined(SL_HAVE_POW_CR) && (defined(SL_POW_CR_FASTEST) || (defined(SL_POW_CR) && !defined(SL_FAST)))
-#undef pow
-#undef powr
-#define pow(x, y) sl_pow_cr((x), (y))
-#define powr(x, y) sl_pow_cr((x), (y))
 #elif defined(SL_FAST)
 #undef pow
 #undef powr
 #define pow(x, y) sl_fast_pow((x), (y))
 #define powr(x, y) sl_fast_pow((x), (y))
+#elif defined(SL_POW_CR) && defined(SL_HAVE_POW_CR)
+#undef pow
+#undef powr
+#define pow(x, y) sl_pow_cr((x), (y))
+#define powr(x, y) sl_pow_cr((x), (y))
 #else
 #undef pow
 #undef powr

@@ -26,23 +26,6 @@ inline const std::string kScenes = std::string(SHADELAB_SOURCE_DIR) + "/scenes";
 inline const std::string kMeshes = SHADELAB_MESH_DIR;
 inline const std::string kData = SHADELAB_TEST_DATA_DIR;
 
-// Whether fast mode's pow is a different function from precise mode's on rt's device: kernels/common.cl defines
-// SL_FAST_POW_SAME in a fast build where nothing faster than the precise pow exists (512-bit vector devices).
-inline bool fast_pow_differs(Runtime& rt) {
-    const char* src = "#include \"common.cl\"\n__kernel void f(__global int* o) {\n#ifdef SL_FAST_POW_SAME\n"
-                      "o[0] = 0;\n#else\no[0] = 1;\n#endif\n}\n";
-    cl::Program p(rt.context(), src);
-    const std::string opts = "-cl-std=CL1.2 -I " + rt.kernel_dir() + " -DSL_FAST=1 " + Shader::options_for(Precision::Fast);
-    p.build({rt.device()}, opts.c_str());
-    cl::Buffer b(rt.context(), CL_MEM_WRITE_ONLY, sizeof(cl_int));
-    cl::Kernel k(p, "f");
-    k.setArg(0, b);
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(1), cl::NullRange);
-    cl_int v = 0;
-    rt.queue().enqueueReadBuffer(b, CL_TRUE, 0, sizeof v, &v);
-    return v != 0;
-}
-
 // The OpenCL runtime every test shares (one context and one program cache per test process).
 inline Runtime& runtime() {
     static Runtime rt;
