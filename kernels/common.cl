@@ -83,18 +83,297 @@ SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
 }
 
 
-// ---- pow in precise mode --------------------------------------------------------------------------------
-// PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with
-// a micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s). sl_pow computes
-//   x^y = 2^(y log2 x)
-// in double: log2 by the atanh series, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute,
-// where float would lose up to 2^-17 and so ~1e-5 relative), 2^t by Taylor series. Every step is accurate to
-// ~1e-11 relative, so the float result is the correctly rounded x^y except within ~1e-11 of a rounding
-// boundary (measured over a dense sweep: docs/precision.md). No tables, no branches: it vectorises wherever
-// the calling kernel does. Devices without cl_khr_fp64 (or a build with -DSL_BUILTIN_POW) keep the built-in.
-#if defined(cl_khr_fp64) && !defined(SL_BUILTIN_POW)
+// ---- keeping LLVM's SLP vectoriser away ----------------------------------------------------------------------
+// Before PoCL builds its work-item loop, LLVM's SLP vectoriser packs two isomorphic, independent scalar
+// computations of one fragment (the same function of NoL and of NoV, the same step at two thresholds) into one
+// <2 x float> computation, and a single such instruction stops the loop vectoriser ("instruction return type
+// cannot be vectorized"): the whole model then runs one fragment at a time. sl_after(x, dep) is x, made to depend
+// on dep, so that a computation started from it cannot be bundled with the one that produced dep (a bundle's
+// members must be independent). x + 0 * dep cannot be folded under IEEE rules (0 * dep is NaN for an infinite or
+// NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign of a zero x).
+SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
+
+// ---- trigonometry: own, vectorisable ----------------------------------------------------------------------
+// PoCL 3.1's sin, cos, tan, asin, acos, atan and atan2 are library calls that its work-item loop vectoriser
+// cannot widen ("call instruction cannot be vectorized"): one call and the whole model runs one fragment at a
+// time (oren_nayar_full ran 25 Mfrag/s against 471 for oren_nayar). These are written in float arithmetic with
+// fma, integer bit operations and selects only: no tables, no data-dependent branches, no calls, so they are
+// widened with the model. Both precision modes map the built-in names to them (the macro blocks below), so a
+// model file writes plain OpenCL C (`acos(mu)`) and gets these. Measured error in ulps against double over
+// millions of arguments: docs/precision.md ("Own trigonometry") and tests/test_mathfn.cpp (asserted bounds).
+// Polynomials: the single-precision minimax coefficients of the Cephes library (S. L. Moshier, Cephes Math
+// Library 2.8: sinf.c, tanf.c, atanf.c, asinf.c), evaluated by Horner's scheme with fma.
+
+// x = k pi/2 + r, |r| <= pi/4 (a hair more at rounding ties), k returned as an int. Cody-Waite reduction with pi/2
+// in three floats (C1 + C2 + C3 = pi/2 to 1e-23): with fma, x - k C1 is exact (both are multiples of ulp(C1) and
+// the difference is below 2, so it fits 24 bits), and k (C2 + C3) is applied in two more fma steps. The error of
+// r is then about 2^-24 |r| + |k| 1e-23: below an ulp of r for |x| up to ~1e7 (asserted to 1e6, the largest a
+// catalogue model reaches: the gradient at its shortest period). k = rint(x 2/pi) by the 1.5 * 2^23 shift,
+// exact for |x 2/pi| < 2^22; beyond |x| ~ 6.6e6 the reduction loses accuracy and the callers only keep their
+// result inside the function's range (no bound is claimed there). Not finite x gives NaN.
+SL_INLINE float sl_reduce_pio2(float x, int* k) {
+    const float kf = (x * 0.636619772f + 12582912.0f) - 12582912.0f;   // rint(x * 2/pi)
+    *k = (int)kf;
+    float r = fma(-kf, 1.57079637f, x);        // C1 = float(pi/2), exact step
+    r = fma(-kf, -4.37113883e-8f, r);          // C2 = float(pi/2 - C1)
+    return fma(-kf, -1.71512451e-15f, r);      // C3 = float(pi/2 - C1 - C2)
+}
+
+// sin r and cos r for |r| <= pi/4 (Cephes sinf.c / cosf.c minimax polynomials in z = r^2).
+SL_INLINE float sl_sin_poly(float r) {
+    const float z = r * r;
+    return fma(fma(fma(-1.9515295891e-4f, z, 8.3321608736e-3f), z, -1.6666654611e-1f) * z, r, r);
+}
+SL_INLINE float sl_cos_poly(float r) {
+    const float z = r * r;
+    const float p = fma(fma(2.443315711809948e-5f, z, -1.388731625493765e-3f), z, 4.166664568298827e-2f);
+    return fma(p * z, z, fma(-0.5f, z, 1.0f));
+}
+
+// The sign bit set when bit 1 of q is set: the quadrant's sign as a mask to XOR into a float.
+SL_INLINE uint sl_quadrant_sign(int q) { return ((uint)q & 2u) << 30; }
+
+// sin x = (sin r, cos r, -sin r, -cos r) for k mod 4 = 0, 1, 2, 3. Both polynomials are evaluated and one is
+// selected: a branch on the quadrant would split the vectorised loop. The clamp to [-1, 1] only matters past
+// |x| ~ 6.6e6 (see sl_reduce_pio2), where it keeps the value a sine's.
+SL_INLINE float sl_sin(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float v = (k & 1) ? sl_cos_poly(r) : sl_sin_poly(r);
+    return clamp(as_float(as_uint(v) ^ sl_quadrant_sign(k)), -1.0f, 1.0f);
+}
+
+// cos x = (cos r, -sin r, -cos r, sin r) for k mod 4 = 0, 1, 2, 3: the sign of quadrant k + 1.
+SL_INLINE float sl_cos(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float v = (k & 1) ? sl_sin_poly(r) : sl_cos_poly(r);
+    return clamp(as_float(as_uint(v) ^ sl_quadrant_sign(k + 1)), -1.0f, 1.0f);
+}
+
+// tan x = tan r for even k, -1 / tan r for odd k (Cephes tanf.c polynomial, |r| <= pi/4). At a pole of tan
+// (x the float nearest an odd multiple of pi/2) r is a few 1e-8, never 0, so -1/tan r is large and finite.
+SL_INLINE float sl_tan(float x) {
+    int k;
+    const float r = sl_reduce_pio2(x, &k);
+    const float z = r * r;
+    const float p = fma(fma(fma(fma(fma(9.38540185543e-3f, z, 3.11992232697e-3f), z, 2.44301354525e-2f), z,
+                                5.34112807005e-2f), z, 1.33387994085e-1f), z, 3.33331568548e-1f);
+    const float t = fma(p * z, r, r);
+    return (k & 1) ? -1.0f / t : t;
+}
+
+// atan u for |u| <= tan(pi/8) = 0.4142 (Cephes atanf.c polynomial in z = u^2).
+SL_INLINE float sl_atan_poly(float u) {
+    const float z = u * u;
+    return fma(fma(fma(fma(8.05374449538e-2f, z, -1.38776856032e-1f), z, 1.99777106478e-1f), z,
+                   -3.33329491539e-1f) * z, u, u);
+}
+
+// atan(lo / hi) for 0 <= lo <= hi (an angle in [0, pi/4]) with one division: for lo / hi > tan(pi/8),
+//   atan(lo / hi) = pi/4 + atan((lo - hi) / (lo + hi))    (Cephes' reduction, atan t = pi/4 + atan((t-1)/(t+1)))
+// with the quotient formed from lo and hi directly. hi = 0 (lo = 0 too) gives 0, not 0/0: the denominator is
+// floored at the smallest denormal, which changes no other quotient. (A select "den > 0 ? num / den : 0"
+// becomes a branch around the division, and LLVM's SLP vectoriser packs the phis of two such branches side by
+// side, e.g. two atan2 in one model, into <2 x float>, which stops PoCL's loop vectoriser.)
+SL_INLINE float sl_atan_ratio(float lo, float hi) {
+    const int big = lo > 0.41421356f * hi;
+    const float num = big ? lo - hi : lo;
+    const float den = big ? lo + hi : hi;
+    const float u = num / fmax(den, 1.40129846e-45f);
+    return (big ? 0.785398163f : 0.0f) + sl_atan_poly(u);
+}
+
+// pi/2 - a and pi - a with pi/2 and pi in two floats (hi + lo), so that the constant adds no rounding of its own.
+SL_INLINE float sl_pio2_minus(float a) { return (1.57079637f - a) + -4.37113883e-8f; }
+SL_INLINE float sl_pi_minus(float a) { return (3.14159274f - a) + -8.74227766e-8f; }
+
+// atan2(y, x): the angle of (x, y) in [-pi, pi]. From a = atan(min / max) of |x| and |y|: pi/2 - a when |y| >
+// |x|, pi - that when x < 0, with the sign of y. atan2(+-0, x) = +-0 for x >= 0 (including -0: OpenCL gives pi
+// for x = -0; no model passes a signed zero that way) and +-pi for x < 0; atan2(0, 0) = 0.
+SL_INLINE float sl_atan2(float y, float x) {
+    // |y| as fmax(y, -y), not fabs: two fabs side by side are what LLVM's SLP vectoriser packs into one
+    // <2 x float> operation, which stops PoCL's loop vectoriser (fmax(y, -y) = |y|; a NaN y gives -y, a NaN).
+    const float ax = fabs(x), ay = fmax(y, -y);
+    float a = sl_atan_ratio(fmin(ax, ay), fmax(ax, ay));
+    a = ay > ax ? sl_pio2_minus(a) : a;
+    a = x < 0.0f ? sl_pi_minus(a) : a;
+    return copysign(a, y);
+}
+
+// atan x = atan2(x, 1).
+SL_INLINE float sl_atan(float x) { return sl_atan2(x, 1.0f); }
+
+// asin x for |x| <= 1 (Cephes asinf.c): |x| <= 1/2: the polynomial in z = x^2; |x| > 1/2:
+//   asin |x| = pi/2 - 2 asin(s),  s = sqrt((1 - |x|) / 2) <= 1/2
+// (1 - |x| is exact there, so the result keeps its accuracy as |x| -> 1). Both inputs go through the same
+// polynomial; |x| > 1 gives NaN (sqrt of a negative), as asin does.
+SL_INLINE float sl_asin_poly(float s) {
+    const float z = s * s;
+    const float p = fma(fma(fma(fma(4.2163199048e-2f, z, 2.4181311049e-2f), z, 4.5470025998e-2f), z,
+                            7.4953002686e-2f), z, 1.6666752422e-1f);
+    return fma(p * z, s, s);
+}
+// Both forms' inputs are computed, then one is selected: "big ? sqrt(.) : x" would be compiled as a branch
+// around the sqrt, whose phi LLVM's SLP vectoriser pairs with the phi of a second call (see sl_atan_ratio).
+SL_INLINE float sl_asin(float x) {
+    const float ax = fabs(x);
+    const int big = ax > 0.5f;
+    const float s_big = sqrt(fmax(0.5f * (1.0f - ax), 0.0f));   // fmax: |x| > 1 gives asin's NaN below
+    const float s = big ? s_big : ax;
+    const float p = sl_asin_poly(s);
+    return copysign(big ? sl_pio2_minus(2.0f * p) : p, x);
+}
+
+// acos x for |x| <= 1: pi/2 - asin x for |x| <= 1/2; for |x| > 1/2 from s = sqrt((1 - |x|) / 2),
+//   acos x = 2 asin(s) (x > 0),  pi - 2 asin(s) (x < 0),
+// which keeps acos accurate near x = 1, where pi/2 - asin x would cancel (acos(1 - d) ~ sqrt(2 d)).
+SL_INLINE float sl_acos(float x) {
+    const float ax = fabs(x);
+    const int big = ax > 0.5f;
+    const float s_big = sqrt(fmax(0.5f * (1.0f - ax), 0.0f));   // as in sl_asin
+    const float s = big ? s_big : x;
+    const float p = sl_asin_poly(s);
+    const float near_one = x > 0.0f ? 2.0f * p : sl_pi_minus(2.0f * p);
+    return big ? near_one : sl_pio2_minus(p);
+}
+
+// ---- pow: three forms --------------------------------------------------------------------------------------
+// PoCL 3.1's built-in pow is very slow on the CPU driver (3.4 M/s against 1700 M/s for a copy, measured with a
+// micro-kernel; docs/precision.md), and so are its float exp2 and log2 (47 and 85 M/s): they are calls the work-
+// item loop vectoriser cannot widen. All three forms here compute
+//   x^y = 2^(y log2 x),  x = 2^e m,  m in [sqrt(1/2), sqrt(2)),
+//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + s^5/5 + ...),  s = (m - 1) / (m + 1),  |s| <= 0.1716
+// (Abramowitz & Stegun 4.1.27), 2^t = 2^k e^(f ln 2) with k = rint(t) by Taylor series, with no tables, no
+// data-dependent branches and no calls, so they vectorise with the model. They differ in how much of
+// y log2 x they keep, which sets the error: a rounding dt of t = y log2 x is a relative error ln 2 dt of the
+// result, and a float t is rounded to 2^-24 |t|, |t| = -log2(result) (up to 126 for results near 2^-126).
+//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.8 ulp for results
+//               >= 2^-10, 4.1 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
+//   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there)
+//   sl_pow_cr   double arithmetic, correctly rounded over the whole sweep (0.5 ulp)
+// Precise mode uses sl_pow, fast mode sl_fast_pow, by measurement in the models (bench_models, 1M fragments,
+// three alternating runs on this project's AVX-512 host, medians): precise Mfrag/s with sl_pow / sl_pow_cr:
+// minnaert_1941 245 / 219, phong 233 / 219, blinn_phong 199 / 192, minnaert_b 162 / 150, toon 324 / 143; fast
+// mode's sl_fast_pow: 262, 247, 219, 385, 184 (docs/precision.md, "pow"). -DSL_POW_CR makes precise mode use
+// sl_pow_cr, for a model whose conditioning needs a correctly rounded power; none in the catalogue does (every
+// model's error bound holds with sl_pow). -DSL_BUILTIN_POW keeps PoCL's pow.
+
+// Results below 2^-126 (denormal floats, under 1.2e-38) are 0 in all three forms (flush to zero, which OpenCL 1.2
+// allows for single precision: CL_FP_DENORM is optional). Why: on x86 an operation that produces or reads a
+// denormal takes a microcode assist (of the order of 100 cycles for the whole vector), and a highlight's NoH^n
+// is that small for a band of fragments: with denormal powers blinn_phong ran 77-80 Mfrag/s, flushed 180-191
+// (bench_models, 1M fragments, three alternating runs). No pixel can show such a value.
+
+// Special cases, as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x),
+// pow(1, y) = 1, pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative
+// base gives NaN (the models never use one: they clamp bases, or select the value away where the base is
+// negative), and so does a NaN argument. r is the value of the formula for the other (finite, positive) bases.
+SL_INLINE float sl_pow_special(float x, float y, float r) {
+    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
+    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
+    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
+    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
+    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
+}
+
+// x = 2^e m with m in [sqrt(1/2), sqrt(2)) for finite x > 0, denormals included (scaled by 2^24 first);
+// returns m and sets *e.
+SL_INLINE float sl_split_log2(float x, float* e) {
+    const int sub = x < 1.17549435e-38f;
+    const int bits = as_int(sub ? x * 16777216.0f : x);
+    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
+    const int big = m0 > 1.41421356f;
+    *e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
+    return big ? 0.5f * m0 : m0;
+}
+
+// 2^k as a product of two exponent-field factors (each normal for k in [-126, 130]).
+SL_INLINE float sl_scale_exp2(float p, float k) {
+    const int ki = (int)k, k1 = ki >> 1;   // floor(k / 2): the two factors still multiply to 2^k
+    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
+}
+
+// e^g for |g| <= 0.35 by its Taylor series to g^7/7! (remainder < 6e-9 relative), Estrin's scheme.
+SL_INLINE float sl_exp_taylor7(float g) {
+    const float g2 = g * g, g4 = g2 * g2;
+    return fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
+           g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
+}
+
+// ---- sl_pow (precise mode): float, the exponent as a float-float pair
+
+// log2 x = hi + lo for finite x > 0, the atanh series to s^9/9 (first omitted term, s^10/11 relative, < 2.1e-9
+// of the sum). The leading term (2 / ln 2) s is formed in float-float: s from the division's fma residual (its
+// low part s_lo = residual / b, with 1 / b = (1 - s) / 2 exactly for s = (m - 1)/(m + 1), so no second division;
+// s_lo is 2^-24 of s, so the rounding of (1 - s) / 2 does not matter), 2 / ln 2 as two floats. The tail of the
+// series (below 1% of the sum) in float; lo carries the roundings of hi.
+SL_INLINE float sl_log2_ff(float x, float* lo) {
+    float e;
+    const float m = sl_split_log2(x, &e);
+    const float a = m - 1.0f;                                   // exact
+    const float b = m + 1.0f, b_lo = m - (b - 1.0f);            // m + 1 = b + b_lo exactly
+    const float s = a / b;
+    const float s_lo = (fma(-s, b, a) - s * b_lo) * fma(-0.5f, s, 0.5f);   // a / (b + b_lo) - s
+    const float s2 = s * s, s4 = s2 * s2;
+    // Estrin: s^2/3 + s^4 (1/5 + s^2/7 + s^4/9)
+    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
+    const float c_hi = 2.88539004f, c_lo = 3.85192598e-8f;      // 2 / ln 2 = c_hi + c_lo
+    const float p = c_hi * s, p_lo = fma(c_hi, s, -p);        // c_hi s = p + p_lo exactly
+    const float tail_p = p * tail;                              // below 1% of p
+    const float l_hi = p + tail_p;
+    const float l_lo = ((p - l_hi) + tail_p) + (p_lo + c_lo * s + c_hi * s_lo);
+    const float hi = e + l_hi;                                  // |e| >= 1 > |l_hi| or e = 0: exact remainder
+    *lo = (l_hi - (hi - e)) + l_lo;
+    return hi;
+}
+
+// 2^(t + t_lo) for t in [-126, 130] (0 below: flush to zero; clamped above, beyond the float range):
+// k = rint(t) by the 1.5 * 2^23 shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
+SL_INLINE float sl_exp2_ff(float t, float t_lo) {
+    // Clamped to [-126, 130]: below -126 the result is flushed to zero (above), and clamping there (not lower)
+    // keeps every lane's scaled value a normal float, so no lane computes a denormal it then throws away.
+    const float tc = fmin(fmax(t, -126.0f), 130.0f);
+    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float r = sl_scale_exp2(sl_exp_taylor7(((tc - k) + t_lo) * 0.693147181f), k);
+    return t < -126.0f ? 0.0f : r;
+}
+
+SL_INLINE float sl_pow(float x, float y) {
+    float l_lo;
+    const float l = sl_log2_ff(x, &l_lo);
+    const float t = y * l;
+    return sl_pow_special(x, y, sl_exp2_ff(t, fma(y, l, -t) + y * l_lo));   // t + t_lo = y (l + l_lo)
+}
+
+// ---- sl_fast_pow (fast mode): plain float
+
+// log2 x for finite x > 0: the same series in plain float, (2 / ln 2)(s + s^3 tail), one division.
+SL_INLINE float sl_log2_f(float x) {
+    float e;
+    const float m = sl_split_log2(x, &e);
+    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s, s4 = s2 * s2;
+    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
+    return fma(2.88539004f * s, tail, 2.88539004f * s) + e;
+}
+
+// 2^t as sl_exp2_ff without the low part.
+SL_INLINE float sl_exp2_f(float t) {
+    const float tc = fmin(fmax(t, -126.0f), 130.0f);   // as in sl_exp2_ff
+    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float r = sl_scale_exp2(sl_exp_taylor7((tc - k) * 0.693147181f), k);
+    return t < -126.0f ? 0.0f : r;
+}
+
+SL_INLINE float sl_fast_pow(float x, float y) { return sl_pow_special(x, y, sl_exp2_f(y * sl_log2_f(x))); }
+
+// ---- sl_pow_cr: double, correctly rounded over the sweep in docs/precision.md
+// log2 x in double, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute), 2^t by Taylor series:
+// every step is accurate to ~1e-11 relative, so the float result is the correctly rounded x^y except within
+// ~1e-11 of a rounding boundary.
+#if defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
-#define SL_HAVE_SL_POW 1
+#define SL_HAVE_POW_CR 1
 
 // log2 x for finite x > 0 (float denormals are normal doubles). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
 //   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + ... + s^13/13),  s = (m - 1) / (m + 1),
@@ -130,121 +409,70 @@ SL_INLINE double sl_exp2_d(double t) {
     return p * as_double((as_long(shifted) + 1023L) << 52);
 }
 
-// x^y as OpenCL's pow for every base the models pass (x >= 0, finite y): pow(x, 0) = 1 (any x), pow(1, y) = 1,
-// pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative base gives
-// NaN (as fast mode always did; the models never use one: they clamp bases, or select the value away where
-// the base is negative), and so does a NaN argument.
-SL_INLINE float sl_pow(float x, float y) {
-    const float r = (float)sl_exp2_d((double)y * sl_log2_d((double)x));
-    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
-    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
-    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
-    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
-    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
+SL_INLINE float sl_pow_cr(float x, float y) {
+    const double t = (double)y * sl_log2_d((double)x);
+    // flush to zero (see above), selected in double: converting a double below 2^-126 would itself take the assist
+    return sl_pow_special(x, y, (float)(t < -126.0 ? 0.0 : sl_exp2_d(t)));
 }
 #endif
 
+// Both modes: the trigonometric built-ins are the own functions above (vectorisable; PoCL's are calls). Fast mode
+// has no cheaper trigonometry of its own: it is the same code as precise mode here (PoCL's native_sin/cos/tan
+// are calls as well, and lose their argument reduction past 5e4 rad). SL_BUILTIN_TRIG keeps PoCL's.
+#ifndef SL_BUILTIN_TRIG
+#undef sin
+#undef cos
+#undef tan
+#undef asin
+#undef acos
+#undef atan
+#undef atan2
+#define sin(x) sl_sin(x)
+#define cos(x) sl_cos(x)
+#define tan(x) sl_tan(x)
+#define asin(x) sl_asin(x)
+#define acos(x) sl_acos(x)
+#define atan(x) sl_atan(x)
+#define atan2(y, x) sl_atan2((y), (x))
+#endif
+
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
-// implementations, ~1-4 ulp), except pow and powr, which are sl_pow above (0.5 ulp, and 10-50x faster than
-// PoCL's pow). SL_FAST ("fast") maps them to the hardware-speed native_ forms and pow to sl_fast_pow (float,
-// no double arithmetic), accepting larger error; the error of every model in fast mode is measured against the
-// double reference and documented in docs/precision.md (and bounded by tests/test_precision.cpp).
+// implementations, ~1-4 ulp), except the trigonometry (above) and pow and powr (sl_pow, above; PoCL's pow is
+// a call, 100x slower). SL_FAST ("fast") maps exp, log, sqrt and rsqrt to the native_ forms (the same code as
+// the full ones on PoCL's CPU driver) and pow to sl_fast_pow (plain float),
+// accepting larger error; the error of every model in fast mode is measured against the double reference and
+// documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
 #ifdef SL_FAST
-// Fast pow: x^y = 2^(y log2 x) in float, with y log2 x carried as a float-float pair (hi + lo) so that its
-// rounding does not cost the result ln 2 |y log2 x| 2^-24 of relative error (what exp2(y * log2(x)) loses: up
-// to 115 ulp for results near 2^-126). No tables, no data-dependent branches, no calls: it vectorises with
-// its model (PoCL's float log2 and exp2 are calls the loop vectoriser cannot widen). Measured error in
-// docs/precision.md (layer 1, and bounded in tests/test_precision.cpp).
-
-// log2 x = hi + lo for finite x > 0 (denormals included). x = 2^e m with m in [sqrt(1/2), sqrt(2)),
-//   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) s (1 + s^2/3 + s^4/5 + s^6/7 + s^8/9),  s = (m - 1) / (m + 1),
-// |s| <= 0.1716; the first omitted term, s^10/11, is < 2.1e-9 of the sum (Abramowitz & Stegun 4.1.27).
-// The leading term (2 / ln 2) s is formed in float-float (s from the division's fma residual, 2 / ln 2 as two
-// floats), the polynomial's tail (below 1% of it) in float; lo carries the roundings of hi.
-SL_INLINE float sl_fast_log2(float x, float* lo) {
-    const int sub = x < 1.17549435e-38f;                      // denormal: scale by 2^24 first
-    const int bits = as_int(sub ? x * 16777216.0f : x);
-    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
-    const int big = m0 > 1.41421356f;
-    const float m = big ? 0.5f * m0 : m0;
-    const float e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
-    const float a = m - 1.0f;                                   // exact
-    const float b = m + 1.0f, b_lo = m - (b - 1.0f);            // m + 1 = b + b_lo exactly
-    const float s = a / b;
-    const float s_lo = (fma(-s, b, a) - s * b_lo) / b;          // a / (b + b_lo) - s
-    const float s2 = s * s, s4 = s2 * s2;
-    // Estrin: s^2/3 + s^4 (1/5 + s^2/7 + s^4/9)
-    const float tail = s2 * (1.0f / 3.0f) + s4 * (fma(s2, 1.0f / 7.0f, 0.2f) + s4 * (1.0f / 9.0f));
-    const float c_hi = 2.88539004f, c_lo = 3.85192598e-8f;      // 2 / ln 2 = c_hi + c_lo
-    const float p = c_hi * s, p_lo = fma(c_hi, s, -p);        // c_hi s = p + p_lo exactly
-    const float tail_p = p * tail;                              // below 1% of p
-    const float l_hi = p + tail_p;
-    const float l_lo = ((p - l_hi) + tail_p) + (p_lo + c_lo * s + c_hi * s_lo);
-    const float hi = e + l_hi;                                  // |e| >= 1 > |l_hi| or e = 0: exact remainder
-    *lo = (l_hi - (hi - e)) + l_lo;
-    return hi;
-}
-
-// 2^(t + t_lo) in float for t clamped to [-160, 130] (beyond the float range either way): t = k + f,
-// k = rint(t), f = (t - k) + t_lo, 2^f = e^g, g = f ln 2, |g| <= 0.35, by its Taylor series to g^7/7!
-// (remainder < 6e-9 relative), scaled by 2^k in two exponent-field factors (so that results down to the
-// denormals need no special path). rint by the 1.5 * 2^23 shift.
-SL_INLINE float sl_fast_exp2(float t, float t_lo) {
-    t = fmin(fmax(t, -160.0f), 130.0f);
-    const float shifted = t + 12582912.0f;   // 1.5 * 2^23: k in the low mantissa bits
-    const float k = shifted - 12582912.0f;
-    const float g = ((t - k) + t_lo) * 0.693147181f, g2 = g * g, g4 = g2 * g2;
-    // Estrin over the Taylor coefficients 1/i!, i = 0..7
-    const float p = fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
-                    g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
-    const int ki = (int)k, k1 = ki / 2;
-    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
-}
-
-// Special cases as sl_pow: pow(x, 0) = 1, pow(1, y) = 1, pow(0, y) = 0 / +inf for y > 0 / < 0,
-// pow(+inf, y) = +inf / 0; a negative base or a NaN gives NaN.
-SL_INLINE float sl_fast_pow(float x, float y) {
-    float l_lo;
-    const float l = sl_fast_log2(x, &l_lo);
-    const float t = y * l;
-    const float r = sl_fast_exp2(t, fma(y, l, -t) + y * l_lo);
-    const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
-    const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
-    float v = x == 0.0f ? at_zero : (x == INFINITY ? at_inf : r);
-    v = (x < 0.0f || x != x || y != y) ? NAN : v;   // x != x: NaN; one unordered compare, not 2 isnan
-    return (y == 0.0f || x == 1.0f) ? 1.0f : v;
-}
-// PoCL's native_sin/cos/tan lose their argument reduction past about 5e4 rad (measured: cos off by 0.023 in
-// [1e5, 1e6]); only a gradient blend with a tiny period reaches there. Large arguments take the full functions.
-SL_INLINE float sl_fast_sin(float x) { return fabs(x) < 3.0e4f ? native_sin(x) : sin(x); }
-SL_INLINE float sl_fast_cos(float x) { return fabs(x) < 3.0e4f ? native_cos(x) : cos(x); }
-SL_INLINE float sl_fast_tan(float x) { return fabs(x) < 3.0e4f ? native_tan(x) : tan(x); }
-// PoCL's own headers already define most built-ins as macros: undefine them first (no redefinition warnings).
-#undef pow
-#undef powr
 #undef exp
 #undef exp2
 #undef log
 #undef log2
 #undef sqrt
 #undef rsqrt
-#undef sin
-#undef cos
-#undef tan
-#define pow(x, y) sl_fast_pow((x), (y))
-#define powr(x, y) sl_fast_pow((x), (y))
 #define exp(x) native_exp(x)
 #define exp2(x) native_exp2(x)
 #define log(x) native_log(x)
 #define log2(x) native_log2(x)
 #define sqrt(x) native_sqrt(x)
 #define rsqrt(x) native_rsqrt(x)
-#define sin(x) sl_fast_sin(x)
-#define cos(x) sl_fast_cos(x)
-#define tan(x) sl_fast_tan(x)
 #define divide(x, y) native_divide((x), (y))
-#elif defined(SL_HAVE_SL_POW)
+#endif
+
+// pow in each mode (see "pow: three forms" above).
+#if defined(SL_BUILTIN_POW)
+// PoCL's own pow and powr
+#elif defined(SL_FAST)
+#undef pow
+#undef powr
+#define pow(x, y) sl_fast_pow((x), (y))
+#define powr(x, y) sl_fast_pow((x), (y))
+#elif defined(SL_POW_CR) && defined(SL_HAVE_POW_CR)
+#undef pow
+#undef powr
+#define pow(x, y) sl_pow_cr((x), (y))
+#define powr(x, y) sl_pow_cr((x), (y))
+#else
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow((x), (y))

@@ -84,6 +84,10 @@ __kernel void shade_fragments(__global const float* restrict px, __global const 
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
         sl_v3 L;
         const float e = light_incident_v3(&lights[l], P, &L);
+        // Each light's evaluation after the previous light's (common.cl's sl_after): the unrolled loop makes the
+        // model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>, which
+        // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
+        L.x = sl_after(L.x, r);
         const sl_rgb v = SL_EVAL(N, L, V, P, mc);
         __constant const float* rad = (__constant const float*)&lights[l] + 4;
         r += (rad[0] * e) * v.r;

@@ -55,16 +55,25 @@ SL_INLINE float Toon_Step(float x, float edge, float half_width) {
 // Toon diffuse: four levels d0..d3 over the unclamped NoL with ascending thresholds t1 <= t2 <= t3,
 //   d0 + (d1 - d0) Step(NoL, t1) + (d2 - d1) Step(NoL, t2) + (d3 - d2) Step(NoL, t3).
 // c[2..4] = t1..t3, c[5] = d0, c[6..8] = the level differences (host).
+// Written for PoCL's loop vectoriser: the steps are the same computation at thresholds that sit next to each
+// other in memory, and as a sum of products they are what LLVM's SLP vectoriser packs into <2 x float>
+// (a horizontal reduction over adjacent loads), which stops the loop vectoriser (toon ran 51 Mfrag/s, one
+// fragment at a time). So the sum is an fma chain (no reduction to match) and each step starts after the
+// previous one (common.cl's sl_after: no two steps are independent, so none can be bundled).
 SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const float* c) {
-    return c[5] + c[6] * Toon_Step(NoL, c[2], half_width) + c[7] * Toon_Step(NoL, c[3], half_width) +
-           c[8] * Toon_Step(NoL, c[4], half_width);
+    const float s1 = Toon_Step(NoL, c[2], half_width);
+    const float s2 = Toon_Step(sl_after(NoL, s1), c[3], half_width);
+    const float s3 = Toon_Step(sl_after(NoL, s2), c[4], half_width);
+    return fma(c[8], s3, fma(c[7], s2, fma(c[6], s1, c[5])));
 }
 
 // Toon specular: three levels s0..s2 of the Blinn-Phong intensity x = max(0, NoH)^n with thresholds
 // u1 <= u2, s0 + (s1 - s0) Step(x, u1) + (s2 - s1) Step(x, u2).
-// c[9..10] = u1, u2, c[11] = s0, c[12..13] = the level differences (host).
+// c[9..10] = u1, u2, c[11] = s0, c[12..13] = the level differences (host). Written as Toon_Diffuse, for the same reason.
 SL_INLINE float Toon_Specular(float x, float half_width, __constant const float* c) {
-    return c[11] + c[12] * Toon_Step(x, c[9], half_width) + c[13] * Toon_Step(x, c[10], half_width);
+    const float s1 = Toon_Step(x, c[9], half_width);
+    const float s2 = Toon_Step(sl_after(x, s1), c[10], half_width);
+    return fma(c[13], s2, fma(c[12], s1, c[11]));
 }
 
 // ---- models ---------------------------------------------------------------------------------------

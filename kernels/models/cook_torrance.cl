@@ -38,7 +38,11 @@ SL_INLINE float D_Beckmann(float NoH2, float NxH2, float inv_m2, float inv_pi_m2
     // and below NoH^2 = 1e-4 the value is already exactly 0 in float for every m <= 1 (exp(-9999) underflows),
     // so the cut changes no result.
     if (NoH2 < 1e-4f) return 0.0f;
-    return exp(-NxH2 * inv_m2 / NoH2) * inv_pi_m2 / (NoH2 * NoH2);
+    // exp(-a) for a > 87 is below 2^-126 (1.6e-38): a denormal, and every instruction that makes or reads one
+    // takes a microcode assist on x86 (common.cl, pow). It is 0 here, as pow flushes such values; the
+    // exponent is capped so that no lane computes the denormal and throws it away.
+    const float a = NxH2 * inv_m2 / NoH2;
+    return a > 87.0f ? 0.0f : exp(-fmin(a, 87.0f)) * inv_pi_m2 / (NoH2 * NoH2);
 }
 
 // GGX / Trowbridge-Reitz (Walter et al. 2007, eq. 33) with alpha = m:

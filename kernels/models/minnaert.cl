@@ -59,10 +59,12 @@ SL_INLINE float Minnaert_blender_nvidia(float one_minus_nv, float d_minus_1) {
 }
 
 // Seed 002's MinnaertB factor on Lambert: NoL^k * (1 - NoV)^(1-k). pow(0, 0) = 1 at k = 1, V = N (the limit).
-// Returned times a (the caller's NoL) as (a NoL^k) (1 - NoV)^(1-k): a product of the two powers alone is what
-// LLVM's SLP vectoriser pairs into one <2 x float> computation in fast mode, which stops the loop vectoriser.
+// Returned times a (the caller's NoL) as (a NoL^k) (1 - NoV)^(1-k), the second power after the first
+// (common.cl's sl_after): the two powers, with exponents next to each other in the constants, are what LLVM's
+// SLP vectoriser pairs into one <2 x float> computation, which stops the loop vectoriser.
 SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, float k, float one_minus_k) {
-    return (a * pow(NoL, k)) * pow(one_minus_NoV, one_minus_k);
+    const float first = a * pow(NoL, k);
+    return first * pow(sl_after(one_minus_NoV, first), one_minus_k);
 }
 
 // ---- models -------------------------------------------------------------------------------------------

@@ -155,8 +155,9 @@ SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __cons
     const float NoVc = fmax(NoV, 0.0f);
     const float sin_i = ON_sin_theta(N, L);
     const float sin_r = NoV >= 0.0f ? ON_sin_theta(N, V) : 1.0f;
+    // theta_r after theta_i (common.cl's sl_after): two atan2 side by side are what LLVM's SLP vectoriser packs.
     const float theta_i = atan2(sin_i, NoL);
-    const float theta_r = atan2(sin_r, NoVc);
+    const float theta_r = atan2(sin_r, sl_after(NoVc, theta_i));
     const bool light_is_beta = NoL >= NoVc;
     const float alpha = light_is_beta ? theta_r : theta_i;
     const float beta = light_is_beta ? theta_i : theta_r;
@@ -218,11 +219,15 @@ SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     (void)P;
     const float NoL = sl_saturate(sl_dot(N, L));
     const float NoV = sl_saturate(sl_dot(N, V));
-    const float PhiR = sl_length(sl_sub(V, sl_scale(N, NoV))) * sl_length(sl_sub(L, sl_scale(N, NoL)));
+    // Each second one of the two tangential lengths and of the two sines after the first (sl_after): the pairs
+    // are the same computation on two inputs, which LLVM's SLP vectoriser would pack (common.cl says why not).
+    const float len_v = sl_length(sl_sub(V, sl_scale(N, NoV)));
+    const float PhiR = len_v * sl_length(sl_sub(L, sl_scale(N, sl_after(NoL, len_v))));
     const float cos_a = fmin(NoL, NoV);   // Alpha = max(acos NoV, acos NoL): the smaller cosine
     const float cos_b = fmax(NoL, NoV);   // Beta = min(...): the larger cosine, >= NoL > 0 where used
     const float sin_alpha = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f));
-    const float tan_beta = sqrt(fmax(1.0f - cos_b * cos_b, 0.0f)) / cos_b;
+    const float cos_b_after = sl_after(cos_b, sin_alpha);
+    const float tan_beta = sqrt(fmax(1.0f - cos_b_after * cos_b_after, 0.0f)) / cos_b;
     const float f = mc->c[0] + mc->c[1] * fmax(PhiR, 0.0f) * sin_alpha * tan_beta;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -358,11 +363,16 @@ SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o
     const float rho_ms = rho * rho * Ebar / fmax(1.0f - rho * (1.0f - Ebar), 1e-3f);
     // max(0, .): the polynomial fit slightly exceeds c1 near mu = 0 (by 4e-4); the listing clamps 1 - E there.
     const float f_ms = rho_ms * (k_ms * fmax(c1 - g_o, 0.0f) * fmax(c1 - g_i, 0.0f));
-    return NoL > 0.0f ? NoL * (f_ss + f_ms) : 0.0f;
+    // 0 for NoL <= 0 as a factor max(NoL, 0), not as NoL > 0 ? . : 0: that select, once per channel, becomes a
+    // branch with one phi per channel, and LLVM's SLP vectoriser packs those phis (and the channels' arithmetic
+    // under them) into <2 x float>, which stops PoCL's loop vectoriser. f_ss + f_ms is finite (EON_value passes
+    // st = 0 where NoL <= 0, where s / t may be s / 0), so the product is 0 there.
+    return fmax(NoL, 0.0f) * (f_ss + f_ms);
 }
 
 SL_INLINE sl_rgb EON_value(float NoL, float NoV, float s, float g_i, float g_o, __constant const ModelConsts* mc) {
-    const float st = ON_s_over_t(s, NoL, fmax(NoV, 0.0f));
+    // NoL <= 0: the value is 0 (EON_channel's factor); st is set to 0 there, as s / t divides by 0 when NoV <= 0 too.
+    const float st = NoL > 0.0f ? ON_s_over_t(s, NoL, fmax(NoV, 0.0f)) : 0.0f;
     return sl_rgb_make(EON_channel(mc->albedo[0], NoL, st, g_i, g_o, mc),
                        EON_channel(mc->albedo[1], NoL, st, g_i, g_o, mc),
                        EON_channel(mc->albedo[2], NoL, st, g_i, g_o, mc));
@@ -373,7 +383,10 @@ SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const M
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
-    return EON_value(NoL, NoV, s, E_FON_G_over_pi(fmax(NoL, 0.0f)), E_FON_G_over_pi(fmax(NoV, 0.0f)), mc);
+    // The albedo of NoV after that of NoL (sl_after): the two are the same function, which SLP would pack.
+    const float g_i = E_FON_G_over_pi(fmax(NoL, 0.0f));
+    const float g_o = E_FON_G_over_pi(sl_after(fmax(NoV, 0.0f), g_i));
+    return EON_value(NoL, NoV, s, g_i, g_o, mc);
 }
 
 // EON with the paper's fitted E_FON (its E_FON_approx): cheaper (no acos, sqrt); the white furnace deviates
@@ -383,8 +396,9 @@ SL_INLINE sl_rgb eon_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant 
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
-    return EON_value(NoL, NoV, s, E_FON_G_over_pi_approx(fmax(NoL, 0.0f)), E_FON_G_over_pi_approx(fmax(NoV, 0.0f)),
-                     mc);
+    const float g_i = E_FON_G_over_pi_approx(fmax(NoL, 0.0f));
+    const float g_o = E_FON_G_over_pi_approx(sl_after(fmax(NoV, 0.0f), g_i));   // as in eon_eval
+    return EON_value(NoL, NoV, s, g_i, g_o, mc);
 }
 
 #endif
