@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +24,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "core/error.hpp"
+#include "mesh/mesh_check.hpp"
 
 namespace fs = std::filesystem;
 
@@ -58,12 +60,16 @@ bool unit(const glm::dvec3& v, glm::dvec3& out) {
     return true;
 }
 
-// A token that parses completely as a number that is NaN or +-Inf ("nan", "-inf", "1e999").
+// A value OpenMesh cannot hold: NaN, +-Inf, or beyond the range of a float (its readers parse coordinates
+// as 32-bit floats, so 1e39 would become Inf -- or make the reader drop the vertex without a word).
+bool non_finite_value(double v) { return !std::isfinite(v) || std::abs(v) > double(FLT_MAX); }
+
+// A token that parses completely as such a number ("nan", "-inf", "1e999", "1e39").
 bool non_finite_number(const std::string& tok) {
     if (tok.empty()) return false;
     char* end = nullptr;
     const double v = std::strtod(tok.c_str(), &end);
-    return end != tok.c_str() && *end == '\0' && !std::isfinite(v);
+    return end != tok.c_str() && *end == '\0' && non_finite_value(v);
 }
 
 // OBJ facts OpenMesh does not give back, read from the file in one pass before OpenMesh reads it:
@@ -111,7 +117,7 @@ ObjScan scan_obj(const std::string& path) {
                 char* end = nullptr;
                 if (!(ls >> tok)) { bad = true; break; }
                 const double v = std::strtod(tok.c_str(), &end);
-                bad = *end != '\0' || !std::isfinite(v);
+                bad = *end != '\0' || non_finite_value(v);
             }
             if (bad) {
                 if (!s.bad_vertices) s.first_bad_line = line_no;
@@ -354,12 +360,14 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
         throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
     if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
     if (!std::ifstream(path)) throw Error("mesh file '" + path + "' cannot be opened: check its read permission");
+    // The file's grammar first: OpenMesh must never see a file it would abort, crash or loop on.
+    check_mesh_file(path, ext);
 
     ObjScan obj;
     if (ext == ".obj") {
         obj = scan_obj(path);
         if (obj.bad_vertices)
-            throw Error("mesh '" + path + "' has " + counted(obj.bad_vertices, "vertex", "vertices") + " with NaN/Inf or " +
+            throw Error("mesh '" + path + "' has " + counted(obj.bad_vertices, "vertex", "vertices") + " with NaN/Inf, beyond-float-range or " +
                         "unreadable coordinates (first on line " + std::to_string(obj.first_bad_line) +
                         "): fix or remove them");
     } else if (const std::size_t facets = ext == ".stl" ? binary_stl_facets(path) : kNone; facets != kNone) {
@@ -370,7 +378,7 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     } else {
         const auto [bad, first] = scan_text_non_finite(path, ext);
         if (bad)
-            throw Error("mesh '" + path + "' has NaN/Inf numbers on " + counted(bad, "line", "lines") + " (first on line " +
+            throw Error("mesh '" + path + "' has NaN/Inf or beyond-float-range numbers on " + counted(bad, "line", "lines") + " (first on line " +
                         std::to_string(first) + "): fix or remove them");
     }
 
