@@ -93,6 +93,9 @@ TEST_CASE("mesh files that crashed or hung OpenMesh are refused with the file, t
     const std::vector<Case> cases = {
         // SIGABRT: assertion !vhandles.empty() in OpenMesh's OBJ reader
         {"obj_face_corner_without_vertex.obj", {"line 2", "'/1'", "no vertex index"}},
+        // heap use-after-free in OpenMesh's set_normal: a corner with a normal names a vertex that does not
+        // exist (found by fuzz/fuzz_mesh in its first 30 s)
+        {"obj_fuzz_use_after_free.obj", {"line 5", "'3//1' names vertex 3, but only 1 are defined above it"}},
         // a corner naming texture coordinate 5 of none: read out of bounds by OpenMesh
         {"obj_texcoord_out_of_range.obj", {"line 4", "texture coordinate 5", "only 0"}},
         // endless loop printing "Unsupported keyword : prope"

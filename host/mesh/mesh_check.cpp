@@ -106,8 +106,8 @@ private:
 
 // ---- OBJ ---------------------------------------------------------------------------------------------
 // OpenMesh reads 'v', 'vt', 'vn' and 'f' (and follows 'mtllib'); it asserts on a face corner without a
-// vertex index and indexes its texture-coordinate and normal arrays with the corner's numbers unchecked.
-// Vertex indices out of range are its own check ("invalid vertex index": the face is dropped and noted).
+// vertex index and uses the corner's vertex, texture-coordinate and normal numbers unchecked, so every
+// index must name an element defined above it.
 void check_obj(std::string_view d, const Checker& c) {
     Lines lines(d);
     std::string_view line;
@@ -148,7 +148,9 @@ void check_obj(std::string_view d, const Checker& c) {
                     c.fail_line(lines.number(), "face corner " + quoted(corner) + " has no vertex index (a corner is v, v/t, v//n or v/t/n)");
                 const char* names[3] = {"vertex", "texture coordinate", "normal"};
                 const std::size_t counts[3] = {v, vt, vn};
-                for (std::size_t p = 1; p < parts; ++p) {
+                // Vertex indices too: OpenMesh sets a corner's normal on the vertex it names before it
+                // checks that the vertex exists (a heap use-after-free found by fuzz/fuzz_mesh).
+                for (std::size_t p = 0; p < parts; ++p) {
                     if (part[p].empty()) continue;
                     if (!integer(part[p], idx) || !resolves(idx, counts[p]))
                         c.fail_line(lines.number(), "face corner " + quoted(corner) + " names " + names[p] + " " +
