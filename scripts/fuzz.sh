@@ -72,7 +72,11 @@ else
   mkdir -p "$B/corpus/$mode" "$B/findings"
   asan=detect_leaks=1
   [ "$mode" = image ] && asan=$asan:fast_unwind_on_malloc=0   # see sanitizers/lsan.supp
-  ASAN_OPTIONS=$asan LSAN_OPTIONS=suppressions=$PWD/sanitizers/lsan.supp \
-    "$B/fuzz/fuzz_$mode" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -print_final_stats=1 \
-    -jobs="$jobs" -workers="$jobs" -artifact_prefix="$B/findings/$mode-" "$B/corpus/$mode" "$B/seeds/$mode"
+  parallel=()
+  [ "$jobs" -gt 1 ] && parallel=(-jobs="$jobs" -workers="$jobs")   # each job logs to build-fuzz/fuzz-N.log
+  supp=$PWD/sanitizers/lsan.supp
+  cd "$B"
+  ASAN_OPTIONS=$asan LSAN_OPTIONS=suppressions=$supp \
+    "fuzz/fuzz_$mode" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -print_final_stats=1 \
+    "${parallel[@]}" -artifact_prefix="findings/$mode-" "corpus/$mode" "seeds/$mode"
 fi

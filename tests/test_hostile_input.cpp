@@ -455,3 +455,25 @@ TEST_CASE("every advertised linear output format writes: .hdr without alpha; .pf
     CHECK(read_image((dir / "i.hdr").string()).channels == 3);
     CHECK_THROWS_WITH(encoding_for("x.pfm"), Catch::Contains("unsupported extension") && !Catch::Contains(".pfm)"));
 }
+
+TEST_CASE("a batch job whose resolution needs more memory than the limit fails with the figure; the others run",
+          "[hostile][batch][limits]") {
+    const fs::path dir = test::scratch_dir("hostile/batch_memory");
+    const std::string mesh = test::kData + "/scene_quad.obj";
+    BatchOptions o;
+    o.scenes = {write(dir / "huge.json", "{ \"resolution\": [16384, 16384], \"meshes\": [ { \"path\": \"" + mesh + "\" } ] }"),
+                write(dir / "small.json", "{ \"resolution\": [16, 16], \"meshes\": [ { \"path\": \"" + mesh + "\" } ] }")};
+    o.out_dir = (dir / "out").string();
+    o.progress = ProgressStyle::Lines;
+    std::ostringstream log;
+    o.log = &log;
+    set_memory_limit(2000000000);   // 2 GB: 16384^2 at 90 bytes/pixel needs 24.2 GB
+    const BatchSummary s = run_batch(o, test::runtime());
+    set_memory_limit(0);
+    INFO(log.str());
+    CHECK(s.failed == 1);
+    CHECK(s.ok == 1);
+    CHECK(log.str().find("huge.json': resolution 16384x16384 would need 24.2 GB of memory, more than the limit of 2.0 GB") !=
+          std::string::npos);
+    CHECK(fs::exists(dir / "out" / "small.png"));
+}

@@ -19,6 +19,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/limits.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "plan/planner.hpp"
@@ -222,6 +223,8 @@ Prepared Runner::prepare(const BatchJob& job) {
             r.load_ms = ms_since(t0);
             return p;
         }
+        check_memory("scene '" + s.file + "': resolution " + std::to_string(s.width) + "x" + std::to_string(s.height),
+                     double(s.width) * double(s.height) * kRenderBytesPerPixel);
         SceneGeometry geo = load_scene_geometry(s, [this](const std::string& path) { return meshes_.get(path); });
         std::vector<Mesh>& loaded = geo.meshes;
         r.triangles = geo.triangles;
