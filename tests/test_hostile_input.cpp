@@ -274,7 +274,7 @@ TEST_CASE("scene files with overflowing numbers, deep nesting or a huge size are
     CHECK_THROWS_WITH(load_scene((dir / "big.json").string()), Catch::Contains("more than the 16777216 a scene file may have"));
 }
 
-TEST_CASE("a batch with a 1e999 scene and a non-UTF-8 scene name renders the good one and writes the report",
+TEST_CASE("a batch with a 1e999 scene, a non-UTF-8 scene and a non-UTF-8 file name renders the good ones and writes the report",
           "[hostile][batch]") {
     const fs::path dir = test::scratch_dir("hostile/batch");
     const std::string mesh = test::kData + "/scene_quad.obj";
@@ -285,7 +285,9 @@ TEST_CASE("a batch with a 1e999 scene and a non-UTF-8 scene name renders the goo
     o.scenes = {write(dir / "bad.json", "{ \"meshes\": [ { \"path\": \"" + mesh + "\" } ], \"ambient\": [1e999, 0, 0] }"),
                 write(dir / "good.json", good_scene),
                 // a file name that is not UTF-8: it names the job, its output and the report entry
-                write(dir / "latin1_caf\xe9.json", good_scene)};
+                write(dir / "latin1_caf\xe9.json", good_scene),
+                // a name that is not UTF-8 inside the file: refused, and the message quotes the bytes
+                write(dir / "utf8.json", "{ \"name\": \"caf\xe9\", \"meshes\": [ { \"path\": \"" + mesh + "\" } ] }")};
     o.out_dir = (dir / "out").string();
     o.progress = ProgressStyle::Lines;
     std::ostringstream log;
@@ -293,18 +295,21 @@ TEST_CASE("a batch with a 1e999 scene and a non-UTF-8 scene name renders the goo
     BatchSummary s;
     REQUIRE_NOTHROW(s = run_batch(o, test::runtime()));
     INFO(log.str());
-    CHECK(s.failed == 1);
+    CHECK(s.failed == 2);
     CHECK(s.ok == 2);
     CHECK(s.exit_code() == 1);
     CHECK(fs::exists(dir / "out" / "good.exr"));
     CHECK(fs::exists(dir / "out" / "latin1_caf\xe9.exr"));
     const auto report = nlohmann::json::parse(slurp(s.report_json));
-    CHECK(report["failed"] == 1);
-    CHECK(report["jobs"].size() == 3);
-    bool bad_recorded = false;
+    CHECK(report["failed"] == 2);
+    CHECK(report["jobs"].size() == 4);
+    std::set<std::string> failed;
     for (const auto& j : report["jobs"])
-        if (j["status"] == "failed") bad_recorded = j["error"].get<std::string>().find("1e999") != std::string::npos;
-    CHECK(bad_recorded);
+        if (j["status"] == "failed") failed.insert(fs::path(j["scene"].get<std::string>()).filename().string());
+    CHECK(failed == std::set<std::string>{"bad.json", "utf8.json"});
+    for (const auto& j : report["jobs"])
+        if (j["scene"].get<std::string>().find("bad.json") != std::string::npos)
+            CHECK(j["error"].get<std::string>().find("1e999") != std::string::npos);
     CHECK(fs::exists(s.report_csv));
 }
 
