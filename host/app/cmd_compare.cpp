@@ -38,8 +38,8 @@ void add_compare_command(CLI::App& app) {
             const NonFinitePixels n = find_non_finite(*img);
             if (n.count && !args->ignore_nonfinite)
                 throw Error("image '" + *path + "' has " + std::to_string(n.count) + " pixel" + (n.count == 1 ? "" : "s") +
-                            " holding NaN or Inf (first at x " + std::to_string(n.x) + ", y " + std::to_string(n.y) +
-                            "): fix what produced it, or leave such pixels out with --ignore-nonfinite");
+                            " holding NaN or Inf, the first at (x, y) = (" + std::to_string(n.x) + ", " + std::to_string(n.y) + ")" +
+                            ": fix what produced it, or leave such pixels out with --ignore-nonfinite");
         }
         const ImageDiff d = compare_images(a, b, args->rel_floor, args->ignore_nonfinite);
         std::cout << "pixels compared     " << d.pixels << "\n"
@@ -48,7 +48,9 @@ void add_compare_command(CLI::App& app) {
                   << "relative error      p99 " << d.rel_p99 << "  max " << d.rel_max << "  (where reference >= "
                   << args->rel_floor << ")\n"
                   << "absolute error max  " << d.abs_max << "\n";
-        if (args->ignore_nonfinite) std::cout << "NaN/Inf excluded    " << d.nonfinite_excluded << " pixels\n";
+        if (args->ignore_nonfinite)
+            std::cout << "NaN/Inf excluded    " << d.nonfinite_excluded << (d.nonfinite_excluded == 1 ? " pixel" : " pixels")
+                      << " (NaN or Inf in either image; left out of every figure)\n";
         if (!args->map.empty()) {
             const bool raw = encoding_for(args->map) == Encoding::Linear;
             write_image(args->map, raw ? d.de_map : colourise_delta_e(d.de_map, args->scale));

@@ -51,8 +51,8 @@ ImageDiff compare_images(const Image& a, const Image& b, double rel_floor, bool 
             const NonFinitePixels n = find_non_finite(*img);
             if (n.count)
                 throw Error(std::string("the ") + which + " has " + std::to_string(n.count) + " pixel" + (n.count == 1 ? "" : "s") +
-                            " holding NaN or Inf (first at x " + std::to_string(n.x) + ", y " + std::to_string(n.y) +
-                            "): fix what produced it, or exclude such pixels (--ignore-nonfinite)");
+                            " holding NaN or Inf, the first at (x, y) = (" + std::to_string(n.x) + ", " + std::to_string(n.y) + ")" +
+                            ": fix what produced it, or exclude such pixels (--ignore-nonfinite)");
         }
     }
     ImageDiff d;
