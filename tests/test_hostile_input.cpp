@@ -320,6 +320,11 @@ TEST_CASE("image headers asking for gigabytes are refused up front with the figu
                       Catch::Contains("40000x40000") && Catch::Contains("6.4 GB") && Catch::Contains("truncated"));
     CHECK_THROWS_WITH(read_image(kHostile + "/png_ihdr_says_20000x20000.png"),
                       Catch::Contains("20000x20000") && Catch::Contains("1.2 GB") && Catch::Contains("cannot hold"));
+    // EXR: OpenEXR's offset table stops a header that claims too much; a file cut in its pixel data is
+    // caught by reading its last row before the image is allocated.
+    CHECK_THROWS_WITH(read_image(kHostile + "/exr_header_says_20000x20000.exr"), Catch::Contains("cannot read image"));
+    CHECK_THROWS_WITH(read_image(kHostile + "/exr_truncated_256x256.exr"),
+                      Catch::Contains("truncated or corrupt: its header says 256x256 but its last row cannot be read"));
 }
 
 TEST_CASE("memory limit: sizes and the SHADELAB_MAX_MEMORY / --max-memory override", "[hostile][limits]") {

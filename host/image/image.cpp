@@ -144,6 +144,21 @@ Image read_image(const std::string& path) {
                     " of pixels), which a " + format_bytes(double(file_bytes)) + " PNG cannot hold");
     check_memory("image '" + path + "' (" + dims + ")",
                  double(spec.width) * double(spec.height) * double(spec.nchannels) * 4.0);
+    // A format with random access (EXR, TIFF) shows whether the file holds its last row (or tile) before
+    // the whole image is allocated: a truncated file is refused for the cost of one row.
+    if (std::string(in->format_name()) == "openexr" || std::string(in->format_name()) == "tiff") {
+        const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+        const int last_y = spec.y + spec.height - 1;
+        std::vector<float> probe(std::size_t(tiled ? spec.tile_width * std::max(spec.tile_height, 1) * std::max(spec.tile_depth, 1)
+                                                   : spec.width) * std::size_t(spec.nchannels));
+        const bool ok = tiled ? in->read_tile(spec.x + (spec.width - 1) / spec.tile_width * spec.tile_width,
+                                              spec.y + (spec.height - 1) / spec.tile_height * spec.tile_height, spec.z,
+                                              OIIO::TypeDesc::FLOAT, probe.data())
+                              : in->read_scanline(last_y, spec.z, OIIO::TypeDesc::FLOAT, probe.data());
+        if (!ok)
+            throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims +
+                        " but its last row cannot be read (" + in->geterror() + ")");
+    }
     Image img(spec.width, spec.height, spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
         const std::string why = in->geterror();
