@@ -76,7 +76,7 @@ else
   [ "$jobs" -gt 1 ] && parallel=(-jobs="$jobs" -workers="$jobs")   # each job logs to build-fuzz/fuzz-N.log
   supp=$PWD/sanitizers/lsan.supp
   cd "$B"
-  ASAN_OPTIONS=$asan LSAN_OPTIONS=suppressions=$supp \
+  SHADELAB_MAX_MEMORY=${SHADELAB_MAX_MEMORY:-1G} ASAN_OPTIONS=$asan LSAN_OPTIONS=suppressions=$supp \
     "fuzz/fuzz_$mode" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2560 -print_final_stats=1 \
     "${parallel[@]}" -artifact_prefix="findings/$mode-" "corpus/$mode" "seeds/$mode"
 fi
