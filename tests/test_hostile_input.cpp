@@ -213,7 +213,7 @@ TEST_CASE("compare --ignore-nonfinite leaves those pixels out of every figure an
     CHECK(full.at(0, 0, 2) == Approx(0.05));
 }
 
-TEST_CASE("the CLI: compare with an Inf pixel exits 1 naming it; --ignore-nonfinite reports the count", "[hostile][compare][cli]") {
+TEST_CASE("the CLI: compare with an Inf pixel exits 1 naming it, and --ignore-nonfinite reports the count", "[hostile][compare][cli]") {
     const fs::path exe = cli_exe();
     if (exe.empty()) return;
     const fs::path dir = test::scratch_dir("hostile/compare_cli");
@@ -346,7 +346,7 @@ TEST_CASE("memory limit: sizes and the SHADELAB_MAX_MEMORY / --max-memory overri
 
 // ---- faults -------------------------------------------------------------------------------------------
 
-TEST_CASE("unfinished temporaries of a dead process are removed; a live process's are kept", "[hostile][faults]") {
+TEST_CASE("unfinished temporaries of a dead process are removed, but a live process's are kept", "[hostile][faults]") {
     const fs::path dir = test::scratch_dir("hostile/stale");
     // A pid that certainly existed and is now gone: a child that exited and was reaped.
     const pid_t child = ::fork();
@@ -366,7 +366,7 @@ TEST_CASE("unfinished temporaries of a dead process are removed; a live process'
     CHECK(remove_stale_temporaries((dir / "no-such-folder").string()) == 0);
 }
 
-TEST_CASE("kill -9 mid-batch: every image on disk is whole and identical to a clean run; a rerun completes the rest",
+TEST_CASE("kill -9 mid-batch: every image on disk is whole and identical to a clean run, and a rerun completes the rest",
           "[hostile][faults][cli]") {
     const fs::path exe = cli_exe();
     if (exe.empty()) return;
@@ -442,7 +442,7 @@ TEST_CASE("kill -9 mid-batch: every image on disk is whole and identical to a cl
     CHECK(images == 12);
 }
 
-TEST_CASE("every advertised linear output format writes: .hdr without alpha; .pfm is not advertised", "[hostile][image]") {
+TEST_CASE("every advertised linear output format writes (.hdr without alpha), and .pfm is not advertised", "[hostile][image]") {
     const fs::path dir = test::scratch_dir("hostile/formats");
     Image img(5, 4, 4);
     for (int y = 0; y < 4; ++y)
@@ -466,7 +466,7 @@ TEST_CASE("every advertised linear output format writes: .hdr without alpha; .pf
     CHECK_THROWS_WITH(encoding_for("x.pfm"), Catch::Contains("unsupported extension") && !Catch::Contains(".pfm)"));
 }
 
-TEST_CASE("a batch job whose resolution needs more memory than the limit fails with the figure; the others run",
+TEST_CASE("a batch job whose resolution needs more memory than the limit fails with the figure, and the others run",
           "[hostile][batch][limits]") {
     const fs::path dir = test::scratch_dir("hostile/batch_memory");
     const std::string mesh = test::kData + "/scene_quad.obj";
