@@ -2,6 +2,7 @@
 #include "mesh/mesh.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cfloat>
 #include <cmath>
@@ -295,7 +296,7 @@ public:
 private:
     class Router : public std::streambuf {
     public:
-        std::ostream* capture = nullptr;   // set only while the mutex is held
+        std::atomic<std::ostream*> capture{nullptr};   // set only while the mutex is held
         Router() : stream_(this) {
             omerr().disconnect(std::cerr);   // leaks OpenMesh's 16-byte target once (see above)
             omerr().connect(stream_);
@@ -312,7 +313,10 @@ private:
         }
 
     private:
-        std::ostream& out() { return capture ? *capture : std::cerr; }
+        std::ostream& out() {
+            std::ostream* c = capture.load();
+            return c ? *c : std::cerr;
+        }
         std::ostream stream_;
     };
     // Never destroyed: omerr() may still be written to while static objects are destroyed at exit.
