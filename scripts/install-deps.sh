@@ -20,6 +20,8 @@ PACKAGES=(
   parallel
   # bench/bench_e2e.cpp: Mesa's llvmpipe (software OpenGL) headless through EGL, and the EGL/OpenGL headers
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  # fuzz/ (scripts/fuzz.sh): clang with libFuzzer and the ASan/UBSan runtimes
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -8,6 +8,7 @@
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/limits.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "models/catalogue.hpp"
@@ -40,7 +41,9 @@ struct RenderArgs {
     bool per_vertex = false;
     double tolerance = 0.0;            // > 0: plan (docs/planner.md) and render the cheapest config within it
     std::string metric = "de2000";
+    std::string max_memory;            // overrides the memory limit (core/limits.hpp)
 };
+
 
 void parse_size(const std::string& s, int& w, int& h) {
     int a = 0, b = 0;
@@ -65,8 +68,8 @@ void run_render(RenderArgs a) {
         const auto kv = parse_param(p);
         mat.params[kv.first] = kv.second;
     }
-    mat.albedo = parse_vec3(a.albedo, "--albedo");
-    mat.specular = parse_vec3(a.specular, "--specular");
+    mat.albedo = parse_vec3(a.albedo, "--albedo", 0.0, kMaxColour);
+    mat.specular = parse_vec3(a.specular, "--specular", 0.0, kMaxColour);
     mat = resolve_material(mat, "--model " + a.model);
 
     std::vector<Light> lights;
@@ -75,6 +78,12 @@ void run_render(RenderArgs a) {
 
     int w = 0, h = 0;
     parse_size(a.size, w, h);
+    if (!a.max_memory.empty()) set_memory_limit(parse_bytes(a.max_memory, "--max-memory"));
+    check_memory("--size " + a.size, double(w) * double(h) * kRenderBytesPerPixel);
+    const glm::dvec3 ambient = parse_vec3(a.ambient, "--ambient", 0.0, kMaxColour);
+    const glm::dvec4 background = parse_vec4(a.background, "--background", 1.0);
+    for (int c = 0; c < 3; ++c) in_range(background[c], "--background", -kMaxColour, kMaxColour);
+    in_range(background[3], "--background alpha", 0.0, 1.0);
 
     const auto t0 = clock::now();
     MeshLoadReport report;
@@ -89,9 +98,9 @@ void run_render(RenderArgs a) {
 
     Camera cam;
     if (!a.eye.empty()) {
-        cam.eye = parse_vec3(a.eye, "--eye");
-        cam.target = a.target.empty() ? mesh.bounds().centre() : parse_vec3(a.target, "--target");
-        cam.up = parse_vec3(a.up, "--up");
+        cam.eye = parse_vec3(a.eye, "--eye", -kMaxCoordinate, kMaxCoordinate);
+        cam.target = a.target.empty() ? mesh.bounds().centre() : parse_vec3(a.target, "--target", -kMaxCoordinate, kMaxCoordinate);
+        cam.up = parse_vec3(a.up, "--up", -kMaxCoordinate, kMaxCoordinate);
         cam.fov_y_deg = a.fov;
         const double dist = glm::length(cam.eye - cam.target) + mesh.bounds().radius() * 4.0;
         cam.z_near = std::max(1e-4, dist * 1e-4);
@@ -116,7 +125,7 @@ void run_render(RenderArgs a) {
     ShadeSetup setup;
     setup.material = mat;
     setup.lights = lights;
-    setup.ambient = parse_vec3(a.ambient, "--ambient");
+    setup.ambient = ambient;
     setup.view = glm::dvec4(cam.eye, 1.0);
     setup.precision = parse_precision(a.precision);
     bool per_vertex = a.per_vertex;
@@ -143,7 +152,7 @@ void run_render(RenderArgs a) {
     const auto rgb = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, setup, &st))
                                 : shader.shade(fb, setup, &st);
     const auto t3 = clock::now();
-    const Image img = compose_image(fb, rgb, parse_vec4(a.background, "--background", 1.0));
+    const Image img = compose_image(fb, rgb, background);
     write_image(a.output, img);
     const auto t4 = clock::now();
     if (!a.quiet) {
@@ -190,6 +199,8 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--metric", args->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path");
+    cmd->add_option("--max-memory", args->max_memory,
+                    "Refuse sizes needing more memory than this (e.g. 32G; default: the machine's memory, or SHADELAB_MAX_MEMORY)");
     cmd->callback([args] { run_render(*args); });
 }
 

@@ -27,6 +27,15 @@ void add_fit_command(CLI::App& app);     // host/app/cmd_fit.cpp
 
 // Small parsers shared by the commands; each throws shadelab::Error naming the option and the text.
 glm::dvec3 parse_vec3(const std::string& text, const std::string& option);
+// The same with every component in [lo, hi] (the error names the option, the value and the range).
+glm::dvec3 parse_vec3(const std::string& text, const std::string& option, double lo, double hi);
+double in_range(double value, const std::string& option, double lo, double hi);
+
+// The ranges scene files allow (host/scene/scene.cpp), so the command line cannot ask for more: beyond them
+// the float kernels overflow to Inf (refused when written) or to a silent 0.
+constexpr double kMaxColour = 1e6;        // albedo, specular, light colour, ambient
+constexpr double kMaxIntensity = 1e12;    // light intensity
+constexpr double kMaxCoordinate = 1e30;   // positions, directions, ranges
 glm::dvec4 parse_vec4(const std::string& text, const std::string& option, double default_w);
 // "dir:x,y,z[:r,g,b[:intensity]]" or "point:x,y,z[:r,g,b[:intensity[:range]]]"
 Light parse_light(const std::string& text);

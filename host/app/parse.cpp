@@ -24,6 +24,21 @@ glm::dvec3 parse_vec3(const std::string& text, const std::string& option) {
     return {parse_number(parts[0], option), parse_number(parts[1], option), parse_number(parts[2], option)};
 }
 
+glm::dvec3 parse_vec3(const std::string& text, const std::string& option, double lo, double hi) {
+    const glm::dvec3 v = parse_vec3(text, option);
+    for (int c = 0; c < 3; ++c) in_range(v[c], option, lo, hi);
+    return v;
+}
+
+double in_range(double v, const std::string& option, double lo, double hi) {
+    if (!(v >= lo && v <= hi)) {
+        std::ostringstream s;
+        s << option << ": " << v << " is out of range: allowed [" << lo << ", " << hi << "] (the same as in scene files)";
+        throw Error(s.str());
+    }
+    return v;
+}
+
 glm::dvec4 parse_vec4(const std::string& text, const std::string& option, double default_w) {
     const auto parts = split(text, ',');
     if (parts.size() == 3) return glm::dvec4(parse_vec3(text, option), default_w);
@@ -40,12 +55,13 @@ Light parse_light(const std::string& text) {
     if (parts[0] == "dir" || parts[0] == "directional") l.type = Light::Type::Directional;
     else if (parts[0] == "point") l.type = Light::Type::Point;
     else throw Error(opt + ": light type must be 'dir' or 'point', got '" + parts[0] + "'");
-    l.vec = parse_vec3(parts[1], opt);
-    if (parts.size() > 2) l.colour = parse_vec3(parts[2], opt + " colour");
-    if (parts.size() > 3) l.intensity = parse_number(parts[3], opt + " intensity");
+    // The ranges of scene files (host/scene/scene.cpp): beyond them float shading overflows to Inf or 0.
+    l.vec = parse_vec3(parts[1], opt, -kMaxCoordinate, kMaxCoordinate);
+    if (parts.size() > 2) l.colour = parse_vec3(parts[2], opt + " colour", 0.0, kMaxColour);
+    if (parts.size() > 3) l.intensity = in_range(parse_number(parts[3], opt + " intensity"), opt + " intensity", 0.0, kMaxIntensity);
     if (parts.size() > 4) {
         if (l.type != Light::Type::Point) throw Error(opt + ": only point lights take a range");
-        l.range = parse_number(parts[4], opt + " range");
+        l.range = in_range(parse_number(parts[4], opt + " range"), opt + " range", 0.0, kMaxCoordinate);
     }
     if (parts.size() > 5) throw Error(opt + ": too many ':'-separated fields");
     if (l.type == Light::Type::Directional && glm::length(l.vec) == 0.0)

@@ -18,11 +18,43 @@ double percentile(std::vector<double> v, double q) {
 }
 }  // namespace
 
-ImageDiff compare_images(const Image& a, const Image& b, double rel_floor) {
+NonFinitePixels find_non_finite(const Image& img) {
+    NonFinitePixels n;
+    const std::size_t ch = std::size_t(std::max(img.channels, 1));
+    for (std::size_t p = 0; p * ch < img.pixels.size(); ++p) {
+        bool bad = false;
+        for (std::size_t c = 0; c < ch && p * ch + c < img.pixels.size(); ++c) bad = bad || !std::isfinite(img.pixels[p * ch + c]);
+        if (!bad) continue;
+        if (n.count++ == 0 && img.width > 0) {
+            n.x = int(p % std::size_t(img.width));
+            n.y = int(p / std::size_t(img.width));
+        }
+    }
+    return n;
+}
+
+namespace {
+bool pixel_finite(const Image& img, int x, int y) {
+    for (int c = 0; c < img.channels; ++c)
+        if (!std::isfinite(img.at(x, y, c))) return false;
+    return true;
+}
+}  // namespace
+
+ImageDiff compare_images(const Image& a, const Image& b, double rel_floor, bool ignore_nonfinite) {
     if (a.width != b.width || a.height != b.height)
         throw Error("images differ in size (" + std::to_string(a.width) + "x" + std::to_string(a.height) + " vs " +
                     std::to_string(b.width) + "x" + std::to_string(b.height) + "): compare renders of the same size");
     if (a.channels < 3 || b.channels < 3) throw Error("images must have at least 3 colour channels (RGB)");
+    if (!ignore_nonfinite) {
+        for (const auto& [img, which] : {std::pair{&a, "image"}, std::pair{&b, "reference"}}) {
+            const NonFinitePixels n = find_non_finite(*img);
+            if (n.count)
+                throw Error(std::string("the ") + which + " has " + std::to_string(n.count) + " pixel" + (n.count == 1 ? "" : "s") +
+                            " holding NaN or Inf, the first at (x, y) = (" + std::to_string(n.x) + ", " + std::to_string(n.y) + ")" +
+                            ": fix what produced it, or exclude such pixels (--ignore-nonfinite)");
+        }
+    }
     ImageDiff d;
     d.de_map = Image(a.width, a.height, 1);
     std::vector<double> des, rels;
@@ -30,6 +62,10 @@ ImageDiff compare_images(const Image& a, const Image& b, double rel_floor) {
     double de_sum = 0.0;
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {
+            if (!pixel_finite(a, x, y) || !pixel_finite(b, x, y)) {
+                ++d.nonfinite_excluded;
+                continue;
+            }
             const bool ca = a.channels < 4 || a.at(x, y, 3) > 0.5f;
             const bool cb = b.channels < 4 || b.at(x, y, 3) > 0.5f;
             if (ca != cb) { ++d.coverage_mismatch; continue; }
@@ -63,7 +99,9 @@ Image colourise_delta_e(const Image& m, double scale_max) {
     const double s = scale_max > 0 ? scale_max : 1.0;
     for (int y = 0; y < m.height; ++y)
         for (int x = 0; x < m.width; ++x) {
-            const double t = std::clamp(double(m.at(x, y, 0)) / s, 0.0, 1.0) * 3.0;
+            const double v = double(m.at(x, y, 0));
+            // NaN would pass through std::clamp and int(NaN) is undefined: show it as full scale.
+            const double t = (std::isfinite(v) ? std::clamp(v / s, 0.0, 1.0) : 1.0) * 3.0;
             const int i = std::min(2, int(t));
             const glm::dvec3 c = glm::mix(stops[i], stops[i + 1], t - i);
             for (int k = 0; k < 3; ++k) out.at(x, y, k) = float(c[k]);

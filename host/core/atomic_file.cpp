@@ -1,7 +1,9 @@
 #include "core/atomic_file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <filesystem>
 #include <fstream>
 
@@ -26,7 +28,32 @@ void create_parent_folder(const fs::path& target, const std::string& path) {
     if (ec) throw Error("cannot create folder '" + target.parent_path().string() + "' for '" + path + "': " + ec.message());
 }
 
+// The pid in '.<name>.tmp<pid>[suffix]', or 0 when `file` is not named like that.
+long temporary_pid(const std::string& file) {
+    if (file.size() < 6 || file[0] != '.') return 0;
+    for (std::size_t at = file.rfind(".tmp"); at != std::string::npos && at > 0; at = file.rfind(".tmp", at - 1)) {
+        std::size_t i = at + 4, j = i;
+        while (j < file.size() && file[j] >= '0' && file[j] <= '9') ++j;
+        if (j > i && j - i <= 9 && (j == file.size() || file[j] == '.')) return std::stol(file.substr(i, j - i));
+    }
+    return 0;
+}
+
 }  // namespace
+
+std::size_t remove_stale_temporaries(const std::string& folder) {
+    std::error_code ec;
+    std::size_t removed = 0;
+    for (const auto& e : fs::directory_iterator(folder.empty() ? "." : folder, ec)) {
+        const std::string name = e.path().filename().string();
+        const long pid = temporary_pid(name);
+        if (pid <= 0 || !e.is_regular_file(ec)) continue;
+        // kill(pid, 0) probes without signalling: ESRCH means no such process.
+        if (pid == long(::getpid()) || ::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;
+        if (fs::remove(e.path(), ec)) ++removed;
+    }
+    return removed;
+}
 
 void write_file_atomically(const std::string& path, const std::string& what, const FillFile& fill,
                            const std::string& tmp_suffix) {

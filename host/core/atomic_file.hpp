@@ -3,6 +3,7 @@
 // The content goes to a hidden temporary file in the same folder ('.<name>.tmp<pid>[suffix]'), which is
 // renamed over the target when complete (rename(2) within one file system is atomic, POSIX.1-2017).
 #pragma once
+#include <cstddef>
 #include <functional>
 #include <string>
 
@@ -21,5 +22,11 @@ void write_file_atomically(const std::string& path, const std::string& what, con
 
 // The same for content already in memory (text or bytes, written as they are).
 void write_text_atomically(const std::string& path, const std::string& what, const std::string& bytes);
+
+// A process killed while writing (kill -9, power off) leaves its '.<name>.tmp<pid>[suffix]' behind. Removes
+// such files directly in `folder` whose process no longer exists (a live process's are left alone, so
+// two runs writing into one folder do not harm each other). Returns how many were removed; a missing
+// folder is 0.
+std::size_t remove_stale_temporaries(const std::string& folder);
 
 }  // namespace shadelab

@@ -12,6 +12,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/limits.hpp"
 
 namespace fs = std::filesystem;
 
@@ -162,6 +163,17 @@ Image read_fits(const std::string& path, std::map<std::string, std::string>* key
     const long long blank = has_blank ? card_int(kw, "BLANK", path) : 0;
 
     const std::size_t n = std::size_t(w) * std::size_t(h) * std::size_t(planes);
+    // The header's sizes are checked against the file and the memory limit before anything is allocated:
+    // a header of a few bytes may ask for gigabytes.
+    const std::string dims = std::to_string(w) + "x" + std::to_string(h) + (planes > 1 ? "x" + std::to_string(planes) : "");
+    const auto file_bytes = fs::file_size(path, ec);
+    if (!ec && double(file_bytes) < double(header_bytes) + double(n) * double(bytes))
+        throw Error("FITS file '" + path + "' is truncated: its header says " + dims + " values of " +
+                    std::to_string(bytes) + " bytes (" + format_bytes(double(n) * double(bytes)) + "), the file holds " +
+                    format_bytes(double(file_bytes) - double(header_bytes)) + " after the header");
+    // Raw data, the float image (grey + alpha or RGBA) and the caller's copy.
+    check_memory("FITS image '" + path + "' (" + dims + ")",
+                 double(n) * double(bytes) + 2.0 * double(w) * double(h) * (planes == 1 ? 2.0 : 4.0) * 4.0);
     std::vector<unsigned char> raw(n * bytes);
     if (!in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size())))
         throw Error("FITS file '" + path + "' is truncated: its data are shorter than NAXIS1 x NAXIS2 x BITPIX say");

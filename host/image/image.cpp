@@ -10,6 +10,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/limits.hpp"
 #include "image/fits.hpp"
 
 namespace fs = std::filesystem;
@@ -51,11 +52,12 @@ Encoding encoding_for(const std::string& path) {
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga" || ext == ".webp")
         return Encoding::Srgb8;
+    // No .pfm: Debian's OpenImageIO 2.4 reads PFM but has no PFM writer.
     if (ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".fits" || ext == ".fit" ||
-        ext == ".fts" || ext == ".pfm")
+        ext == ".fts")
         return Encoding::Linear;
     throw Error("output '" + path + "' has an unsupported extension: use .png (sRGB 8-bit) or .exr (linear float)"
-                " (also .jpg .bmp .tga .webp .hdr .tif .fits .pfm)");
+                " (also .jpg .bmp .tga .webp .hdr .tif .fits)");
 }
 
 namespace {
@@ -99,6 +101,15 @@ void write_image(const std::string& path, const Image& img) {
     // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
     if (is_fits_path(path)) return write_fits(path, img);
     const Encoding enc = encoding_for(path);
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == ".hdr" && img.channels != 3) {
+        // Radiance HDR holds RGB only: the colour channels are written (grey as RGB), alpha is dropped.
+        Image rgb(img.width, img.height, 3);
+        for (std::size_t p = 0; p < std::size_t(img.width) * std::size_t(img.height); ++p)
+            for (int c = 0; c < 3; ++c) rgb.pixels[p * 3 + c] = img.pixels[p * std::size_t(img.channels) + std::size_t(img.channels >= 3 ? c : 0)];
+        return write_image(path, rgb);
+    }
     std::size_t bad = 0;
     for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
     if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
@@ -118,6 +129,36 @@ Image read_image(const std::string& path) {
     auto in = OIIO::ImageInput::open(path, &config);
     if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    // The header's size is checked before the pixels are allocated: a header of a few bytes may ask for
+    // gigabytes. Deflate (PNG) packs at most 1032:1, so a PNG smaller than its raw pixels / 1032 cannot
+    // hold them; for every format the float image must fit in the memory limit.
+    const std::string dims = std::to_string(spec.width) + "x" + std::to_string(spec.height);
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.nchannels > 64)
+        throw Error("image '" + path + "': its header says " + dims + " with " + std::to_string(spec.nchannels) +
+                    " channels: not an image that can be read");
+    const double raw = double(spec.width) * double(spec.height) * double(spec.nchannels) * double(spec.format.size());
+    std::error_code size_ec;
+    const auto file_bytes = fs::file_size(path, size_ec);
+    if (!size_ec && std::string(in->format_name()) == "png" && double(file_bytes) * 1032.0 < raw)
+        throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims + " (" + format_bytes(raw) +
+                    " of pixels), which a " + format_bytes(double(file_bytes)) + " PNG cannot hold");
+    check_memory("image '" + path + "' (" + dims + ")",
+                 double(spec.width) * double(spec.height) * double(spec.nchannels) * 4.0);
+    // A format with random access (EXR, TIFF) shows whether the file holds its last row (or tile) before
+    // the whole image is allocated: a truncated file is refused for the cost of one row.
+    if (std::string(in->format_name()) == "openexr" || std::string(in->format_name()) == "tiff") {
+        const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+        const int last_y = spec.y + spec.height - 1;
+        std::vector<float> probe(std::size_t(tiled ? spec.tile_width * std::max(spec.tile_height, 1) * std::max(spec.tile_depth, 1)
+                                                   : spec.width) * std::size_t(spec.nchannels));
+        const bool ok = tiled ? in->read_tile(spec.x + (spec.width - 1) / spec.tile_width * spec.tile_width,
+                                              spec.y + (spec.height - 1) / spec.tile_height * spec.tile_height, spec.z,
+                                              OIIO::TypeDesc::FLOAT, probe.data())
+                              : in->read_scanline(last_y, spec.z, OIIO::TypeDesc::FLOAT, probe.data());
+        if (!ok)
+            throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims +
+                        " but its last row cannot be read (" + in->geterror() + ")");
+    }
     Image img(spec.width, spec.height, spec.nchannels);
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
         const std::string why = in->geterror();

@@ -30,7 +30,7 @@ double srgb_decode(double encoded);  // encoded [0,1] -> linear
 Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background);
 
 enum class Encoding { Linear, Srgb8 };
-// .png .jpg .jpeg .bmp .tga .webp: 8-bit sRGB; .exr .hdr .tif .tiff .fits .pfm: linear float.
+// .png .jpg .jpeg .bmp .tga .webp: 8-bit sRGB; .exr .hdr .tif .tiff .fits: linear float (.hdr without alpha).
 Encoding encoding_for(const std::string& path);
 
 // FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never

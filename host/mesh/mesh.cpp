@@ -2,7 +2,9 @@
 #include "mesh/mesh.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -23,6 +25,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "core/error.hpp"
+#include "mesh/mesh_check.hpp"
 
 namespace fs = std::filesystem;
 
@@ -58,12 +61,16 @@ bool unit(const glm::dvec3& v, glm::dvec3& out) {
     return true;
 }
 
-// A token that parses completely as a number that is NaN or +-Inf ("nan", "-inf", "1e999").
+// A value OpenMesh cannot hold: NaN, +-Inf, or beyond the range of a float (its readers parse coordinates
+// as 32-bit floats, so 1e39 would become Inf -- or make the reader drop the vertex without a word).
+bool non_finite_value(double v) { return !std::isfinite(v) || std::abs(v) > double(FLT_MAX); }
+
+// A token that parses completely as such a number ("nan", "-inf", "1e999", "1e39").
 bool non_finite_number(const std::string& tok) {
     if (tok.empty()) return false;
     char* end = nullptr;
     const double v = std::strtod(tok.c_str(), &end);
-    return end != tok.c_str() && *end == '\0' && !std::isfinite(v);
+    return end != tok.c_str() && *end == '\0' && non_finite_value(v);
 }
 
 // OBJ facts OpenMesh does not give back, read from the file in one pass before OpenMesh reads it:
@@ -111,7 +118,7 @@ ObjScan scan_obj(const std::string& path) {
                 char* end = nullptr;
                 if (!(ls >> tok)) { bad = true; break; }
                 const double v = std::strtod(tok.c_str(), &end);
-                bad = *end != '\0' || !std::isfinite(v);
+                bad = *end != '\0' || non_finite_value(v);
             }
             if (bad) {
                 if (!s.bad_vertices) s.first_bad_line = line_no;
@@ -269,12 +276,13 @@ std::size_t declared_vertex_count(const std::string& path, const std::string& ex
 // OpenMesh writes its warnings ("complex edge", "Face has equal vertices", ...) to its global omerr()
 // stream. While a file is read they are captured here (one reader at a time: the stream is global, and
 // batch runs load meshes on a second thread), then turned into report notes instead of raw stderr lines.
+//
+// omerr() is re-routed once for the life of the process, through a forwarder that hands what it gets to
+// the capture in progress, or to std::cerr when there is none. (Connecting and disconnecting a capture per
+// load leaked 16 bytes each time: OpenMesh 9's mostream::disconnect erases its target without deleting it.)
 class OpenMeshLog {
 public:
-    OpenMeshLog() : lock_(mutex()) {
-        had_cerr_ = omerr().disconnect(std::cerr);
-        omerr().connect(log_);
-    }
+    OpenMeshLog() : lock_(mutex()) { router().capture = &log_; }
     ~OpenMeshLog() { restore(); }
     OpenMeshLog(const OpenMeshLog&) = delete;
     OpenMeshLog& operator=(const OpenMeshLog&) = delete;
@@ -286,6 +294,36 @@ public:
     }
 
 private:
+    class Router : public std::streambuf {
+    public:
+        std::atomic<std::ostream*> capture{nullptr};   // set only while the mutex is held
+        Router() : stream_(this) {
+            omerr().disconnect(std::cerr);   // leaks OpenMesh's 16-byte target once (see above)
+            omerr().connect(stream_);
+        }
+
+    protected:
+        int overflow(int c) override {
+            if (c != traits_type::eof()) out().put(char(c));
+            return traits_type::not_eof(c);
+        }
+        std::streamsize xsputn(const char* s, std::streamsize n) override {
+            out().write(s, n);
+            return n;
+        }
+
+    private:
+        std::ostream& out() {
+            std::ostream* c = capture.load();
+            return c ? *c : std::cerr;
+        }
+        std::ostream stream_;
+    };
+    // Never destroyed: omerr() may still be written to while static objects are destroyed at exit.
+    static Router& router() {
+        static Router* r = new Router;
+        return *r;
+    }
     static std::mutex& mutex() {
         static std::mutex m;
         return m;
@@ -293,12 +331,10 @@ private:
     void restore() {
         if (restored_) return;
         restored_ = true;
-        omerr().disconnect(log_);
-        if (had_cerr_) omerr().connect(std::cerr);
+        router().capture = nullptr;
     }
     std::lock_guard<std::mutex> lock_;
     std::ostringstream log_;
-    bool had_cerr_ = false;
     bool restored_ = false;
 };
 
@@ -354,12 +390,14 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
         throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
     if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
     if (!std::ifstream(path)) throw Error("mesh file '" + path + "' cannot be opened: check its read permission");
+    // The file's grammar first: OpenMesh must never see a file it would abort, crash or loop on.
+    check_mesh_file(path, ext);
 
     ObjScan obj;
     if (ext == ".obj") {
         obj = scan_obj(path);
         if (obj.bad_vertices)
-            throw Error("mesh '" + path + "' has " + counted(obj.bad_vertices, "vertex", "vertices") + " with NaN/Inf or " +
+            throw Error("mesh '" + path + "' has " + counted(obj.bad_vertices, "vertex", "vertices") + " with NaN/Inf, beyond-float-range or " +
                         "unreadable coordinates (first on line " + std::to_string(obj.first_bad_line) +
                         "): fix or remove them");
     } else if (const std::size_t facets = ext == ".stl" ? binary_stl_facets(path) : kNone; facets != kNone) {
@@ -370,7 +408,7 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     } else {
         const auto [bad, first] = scan_text_non_finite(path, ext);
         if (bad)
-            throw Error("mesh '" + path + "' has NaN/Inf numbers on " + counted(bad, "line", "lines") + " (first on line " +
+            throw Error("mesh '" + path + "' has NaN/Inf or beyond-float-range numbers on " + counted(bad, "line", "lines") + " (first on line " +
                         std::to_string(first) + "): fix or remove them");
     }
 

@@ -19,6 +19,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/limits.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "plan/planner.hpp"
@@ -170,6 +171,7 @@ private:
     MeshCache meshes_;
     std::map<std::string, std::size_t> first_writer_;   // output path -> index of the first job writing it
     std::map<std::size_t, std::string> job_labels_;
+    std::set<std::string> output_folders_;               // every folder an output of the batch goes to
 };
 
 // Two jobs writing the same file would race (and the last one would silently win). Every job of the full
@@ -180,8 +182,11 @@ void Runner::index_outputs(const std::vector<BatchJob>& all) {
         job_labels_[j.index] = j.label();
         try {
             const Scene s = load_scene(j.scene, SceneLoadOptions{opt_.out_dir, j.mesh});
-            for (const auto& o : s.outputs.all()) first_writer_.emplace(fs::path(o).lexically_normal().string(), j.index);
-        } catch (const Error&) {
+            for (const auto& o : s.outputs.all()) {
+                first_writer_.emplace(fs::path(o).lexically_normal().string(), j.index);
+                output_folders_.insert(fs::path(o).lexically_normal().parent_path().string());
+            }
+        } catch (const std::exception&) {   // the job fails on its own, in turn, with its message
         }
     }
 }
@@ -218,6 +223,8 @@ Prepared Runner::prepare(const BatchJob& job) {
             r.load_ms = ms_since(t0);
             return p;
         }
+        check_memory("scene '" + s.file + "': resolution " + std::to_string(s.width) + "x" + std::to_string(s.height),
+                     double(s.width) * double(s.height) * kRenderBytesPerPixel);
         SceneGeometry geo = load_scene_geometry(s, [this](const std::string& path) { return meshes_.get(path); });
         std::vector<Mesh>& loaded = geo.meshes;
         r.triangles = geo.triangles;
@@ -410,6 +417,15 @@ BatchSummary Runner::run() {
     sum.device = rt_.device_description();
     const std::size_t built0 = rt_.programs_built();
 
+    // Temporaries of an earlier run killed while writing (kill -9, power off): never complete, so removed.
+    {
+        std::size_t stale = remove_stale_temporaries(opt_.out_dir);
+        for (const auto& f : output_folders_)
+            if (fs::path(f).lexically_normal() != fs::path(opt_.out_dir).lexically_normal()) stale += remove_stale_temporaries(f);
+        if (stale)
+            log << "batch: removed " << stale << " unfinished temporary file" << (stale == 1 ? "" : "s")
+                << " left by an interrupted run\n";
+    }
     Progress progress(jobs.size(), log, opt_.progress);
     // Job i+1 is parsed, loaded and rasterised on its own thread while job i shades on this one
     // (overlap), or right before it shades (deferred: no second thread).
@@ -639,7 +655,9 @@ void write_report_json(const BatchSummary& s, const std::string& path) {
                    {"wait_for_write_ms", s.write_wait_ms},
                    {"programs_built", s.programs_built},
                    {"jobs", jobs}};
-    write_text_atomically(path, "report", doc.dump(2) + "\n");
+    // Scene and mesh paths come from the file system and need not be UTF-8: such bytes are replaced
+    // (U+FFFD) rather than losing the whole report after the batch has run.
+    write_text_atomically(path, "report", doc.dump(2, ' ', false, json::error_handler_t::replace) + "\n");
 }
 
 void write_report_csv(const BatchSummary& s, const std::string& path) {

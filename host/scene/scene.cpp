@@ -24,6 +24,8 @@ namespace {
 constexpr int kMaxSide = 16384;
 constexpr std::size_t kMaxLights = 64;   // each light count is its own program (the loop is unrolled)
 constexpr int kMaxMaterialDepth = 4;     // named materials referring to names: stops a cycle
+constexpr std::uintmax_t kMaxSceneBytes = 16u << 20;   // the bundled scenes are under 4 kB
+constexpr int kMaxJsonDepth = 32;        // the deepest scene key is 6 levels down
 
 const std::map<std::string, std::vector<std::string>>& schema_keys() {
     static const std::map<std::string, std::vector<std::string>> k{
@@ -461,16 +463,32 @@ Scene load_scene(const std::string& file, const SceneLoadOptions& opt) {
     if (fs::is_directory(file, ec)) throw Error(at + "is a folder, not a scene file");
     std::ifstream in(file, std::ios::binary);
     if (!in) throw Error(at + "cannot be opened for reading");
+    // A scene is a few kilobytes; a huge file is a mistake (or an attack), refused before it is parsed.
+    const auto size = fs::file_size(file, ec);
+    if (!ec && size > kMaxSceneBytes)
+        throw Error(at + "is " + std::to_string(size) + " bytes, more than the " + std::to_string(kMaxSceneBytes) +
+                    " a scene file may have: is it really a scene?");
     json doc;
     try {
-        doc = json::parse(in, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-    } catch (const json::parse_error& e) {
+        // Nesting deeper than any scene needs is refused while parsing (the parse itself is not recursive,
+        // but walking and printing such a document would be).
+        const json::parser_callback_t depth_guard = [&at](int depth, json::parse_event_t, json&) {
+            if (depth > kMaxJsonDepth)
+                throw Error(at + "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels: no scene needs that");
+            return true;
+        };
+        doc = json::parse(in, depth_guard, /*allow_exceptions=*/true, /*ignore_comments=*/true);
+    } catch (const json::exception& e) {   // syntax, invalid UTF-8, a number beyond double (1e999)
         std::string what = e.what();
         const auto close = what.find("] ");
         if (what.rfind("[json.exception", 0) == 0 && close != std::string::npos) what = what.substr(close + 2);
         throw Error(at + "not valid JSON: " + what);
     }
-    return parse_scene(doc, file, opt);
+    try {
+        return parse_scene(doc, file, opt);
+    } catch (const json::exception& e) {   // a value of a type the checks did not expect: still one line
+        throw Error(at + "unexpected content: " + e.what());
+    }
 }
 
 Camera scene_camera(const Scene& s, const Bounds& b) {
