@@ -47,6 +47,15 @@ expect "unknown free parameter" 1 "--free k is not a parameter of hapke_hen" -- 
 "$bin" -q moon render -m lambert --size 60x60 --radius 20 -o small.exr > /dev/null
 expect "backplanes of another size" 1 "small.exr is 60x60 but g2.exr is 80x80: backplanes must have the image's size" -- \
     "$bin" photometry fit g2.exr --backplanes small.exr,small.exr,small.exr --model lambert
+# rasters through GDAL: a TIFF read by band (bracket syntax); a band it does not have; backplanes of another size
+"$bin" -q moon render -m lambert --size 80x80 --radius 34 --phase 2 -o g2.tif > /dev/null
+"$bin" -q moon render -m lambert --size 60x60 --radius 20 -o small.tif > /dev/null
+expect "tif band by index" 0 "pixels: [0-9]+ from 1 image" -- \
+    "$bin" photometry fit "g2.tif[1]" --phase 2 --radius 34 --model lambert
+expect "missing band" 1 "g2.tif has no band '9': its bands are 1" -- \
+    "$bin" photometry fit "g2.tif[9]" --phase 2 --radius 34 --model lambert
+expect "band backplanes of another size" 1 "small.tif\[1\] is 60x60 but g2.exr is 80x80" -- \
+    "$bin" photometry fit g2.exr --backplanes "small.tif[1],small.tif[1],small.tif[1]" --model lambert
 
 echo "photometry_fit.sh: $passes passed, $fails failed"
 [ "$fails" -eq 0 ]
