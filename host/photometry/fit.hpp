@@ -15,7 +15,7 @@
 //   s^2 = RSS / (N - k),   C = s^2 (J^T J)^-1,   SE_j = sqrt(C_jj),   corr_jl = C_jl / (SE_j SE_l)
 // over the k free parameters not held on a bound. J^T J is inverted through its eigen-decomposition after
 // scaling to unit diagonal; an eigenvalue below 1e-6 of the largest is a direction the data do not determine,
-// reported in words with the parameters that make it up (their SE is then infinite, printed as "not determined").
+// reported in words with the parameters that make it up (their SE is then -1, printed as "not determined").
 //
 // Model selection (Gaussian likelihood with the variance profiled out; Akaike 1974, Schwarz 1978):
 //   AIC = N ln(RSS/N) + 2k,   BIC = N ln(RSS/N) + k ln N,
@@ -55,7 +55,7 @@ struct FitOptions {
 struct FitParameter {
     std::string name;                           // a model parameter, or "B1", "B2", ... (the brightness of image m)
     double value = 0.0, lo = 0.0, hi = 0.0;
-    double stderr_ = 0.0;                       // infinity: not determined by the data; 0: held on a bound
+    double stderr_ = 0.0;                       // -1: not determined by the data; 0: held on a bound
     bool at_bound = false;
 };
 
