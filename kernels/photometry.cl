@@ -65,3 +65,33 @@ __kernel void eval_empirical(__global const float* restrict mu0, __global const 
     const float v = law == 1u ? Pho_Minnaert(a, b, param[i]) : Pho_LunarLambert(a, b, param[i]);
     out[i] = pho_finite_or_zero(a > 0.0f && b > 0.0f ? brightness[i] * v : 0.0f);
 }
+
+// Many parameter sets at once (the fits of host/photometry/fit.hpp): work-item (i, s) evaluates row i with the
+// constants sets[s] and writes out[s * stride + i]. The rows are uploaded once per fit; each launch carries the
+// current parameters, their finite-difference neighbours and the trial steps. No bounds check (the host pads).
+__kernel void eval_photometric_sets(__global const float* restrict mu0, __global const float* restrict mu,
+                                    __global const float* restrict sin_i, __global const float* restrict sin_e,
+                                    __global const float* restrict cos_g, __global const float* restrict tan_half_g,
+                                    __global const float* restrict tan_half_psi, __global float* restrict out,
+                                    const uint stride, __constant const ModelConsts* sets) {
+    const size_t i = get_global_id(0), s = get_global_id(1);
+    __constant const ModelConsts* mc = sets + s;
+    sl_pho g;
+    g.mu0 = mu0[i];
+    g.mu = mu[i];
+    g.sin_i = sin_i[i];
+    g.sin_e = sin_e[i];
+    g.cos_g = cos_g[i];
+    g.tan_half_g = tan_half_g[i];
+    g.tan_half_psi = tan_half_psi[i];
+#ifdef SL_PHO_EVAL
+    const float v = mc->albedo[0] * SL_PHO_EVAL(g, mc);
+#else
+    const float t2 = g.tan_half_psi * g.tan_half_psi;
+    const float cos_psi = (1.0f - t2) / (1.0f + t2), sin_psi = 2.0f * g.tan_half_psi / (1.0f + t2);
+    const sl_v3 N = sl_v3_make(0.0f, 0.0f, 1.0f), L = sl_v3_make(g.sin_i, 0.0f, g.mu0);
+    const sl_v3 V = sl_v3_make(g.sin_e * cos_psi, g.sin_e * sin_psi, g.mu);
+    const float v = SL_EVAL(N, L, V, N, mc).r;
+#endif
+    out[s * (size_t)stride + i] = pho_finite_or_zero(v);
+}

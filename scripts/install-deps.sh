@@ -10,6 +10,8 @@ PACKAGES=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   # mesh IO, image IO, host maths
   libopenmesh-dev libopenimageio-dev openimageio-tools libglm-dev
+  # planetary data: FITS (cfitsio) and ISIS3 cubes, PDS3/PDS4, GeoTIFF (GDAL)
+  libcfitsio-dev libgdal-dev
   # command line, JSON, tests
   libcli11-dev nlohmann-json3-dev catch2
   # charts (gnuplot renders the PNG plots); the font the contact sheet's labels use

@@ -3,6 +3,7 @@
 //   photometry eval --pvl FILE --phase G --incidence I --emission E    the value, last number on stdout
 //   photometry eval --pvl FILE --csv IN.csv -o OUT.csv                 every row of a table, a `value` column added
 //   photometry empirical --pvl HAPKE.pvl --law lunar_lambert ... -o TABLE.pvl   ISIS phoempglobal's tables
+//   photometry fit IMG... --phase G,... --radius R --model hapke_hen | --models a,b,c   fits, errors, ranking
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -18,8 +19,11 @@
 #include "core/atomic_file.hpp"
 #include "photometry/csv.hpp"
 #include "image/image.hpp"
+#include "models/catalogue.hpp"
+#include "moon/disc.hpp"
 #include "moon/fit.hpp"
 #include "photometry/empirical.hpp"
+#include "photometry/fit.hpp"
 #include "photometry/normalize.hpp"
 #include "photometry/isis.hpp"
 
@@ -222,6 +226,107 @@ void run_fit_disc(const FitDiscArgs& a) {
     std::cout << "rms: " << f.rms << "\n";
 }
 
+struct FitArgs {
+    std::vector<std::string> images, backplanes, params, models;
+    std::vector<double> phase, pa, radius;
+    std::vector<std::string> centre;
+    std::string model, free;
+    double incmax = 89.0, emamax = 89.0;
+    int max_iterations = 200;
+    std::string precision = "precise";
+};
+
+// The k-th of a per-image list given once (for all images) or once per image.
+template <class T>
+T per_image(const std::vector<T>& v, std::size_t k, const char* opt, std::size_t images, T fallback) {
+    if (v.empty()) return fallback;
+    if (v.size() != 1 && v.size() != images)
+        throw Error(std::string("photometry fit: ") + opt + " is given " + std::to_string(v.size()) + " times for " +
+                    std::to_string(images) + " images: give it once (for all) or once per image");
+    return v.size() == 1 ? v[0] : v[k];
+}
+
+// The pixels of every image with their geometry: a disc (--phase, --pa, --radius, --centre per image) or
+// backplanes (--backplanes PHASE,INCIDENCE,EMISSION per image); pixels beyond --incmax or --emamax are left out.
+photometry::FitData fit_data_from_args(const FitArgs& a) {
+    if (a.images.empty()) throw Error("photometry fit: give one or more images");
+    const std::size_t n = a.images.size();
+    if (!a.backplanes.empty() && a.backplanes.size() != n)
+        throw Error("photometry fit: --backplanes is given " + std::to_string(a.backplanes.size()) + " times for " +
+                    std::to_string(n) + " images: one PHASE,INCIDENCE,EMISSION triple per image");
+    if (a.backplanes.empty() && a.phase.size() != n)
+        throw Error("photometry fit: --phase is given " + std::to_string(a.phase.size()) + " times for " +
+                    std::to_string(n) + " images: one phase per image (--phase 20,45,70), or --backplanes");
+    photometry::FitData d;
+    d.images = int(n);
+    for (std::size_t m = 0; m < n; ++m) {
+        const Image img = read_image(a.images[m]);
+        d.image_names.push_back(a.images[m]);
+        auto add = [&](const photometry::Geometry& g, double v) {
+            if (g.incidence > a.incmax || g.emission > a.emamax) return;
+            d.geometry.push_back(g);
+            d.value.push_back(v);
+            d.image.push_back(int(m));
+        };
+        if (!a.backplanes.empty()) {
+            const photometry::PixelGeometry pg =
+                photometry::geometry_from_backplanes(img, a.images[m], split(a.backplanes[m], ','));
+            for (std::size_t k = 0; k < pg.dn.size(); ++k) add(pg.geometry[k], pg.dn[k]);
+            continue;
+        }
+        const double radius = per_image(a.radius, m, "--radius", n, 0.0);
+        if (!(radius > 0.0)) throw Error("photometry fit: --radius (the disc's radius in pixels) is needed with --phase");
+        moon::Disc disc{0.5 * img.width, 0.5 * img.height, radius};
+        const std::string centre = per_image(a.centre, m, "--centre", n, std::string());
+        if (!centre.empty()) {
+            const glm::dvec3 c = parse_vec3(centre + ",0", "--centre");
+            disc.cx = c.x;
+            disc.cy = c.y;
+        }
+        const double g = a.phase[m];
+        if (!std::isfinite(g) || g < 0.0 || g > 180.0)
+            throw Error("photometry fit: --phase " + std::to_string(g) + " is out of range: allowed 0 to 180 degrees");
+        const moon::SunGeometry sun = moon::sun_geometry(g, per_image(a.pa, m, "--pa", n, 0.0));
+        for (const auto& p : moon::disc_pixels(img, disc, sun)) add({p.a.g_deg, p.a.i_deg, p.a.e_deg}, p.I);
+    }
+    return d;
+}
+
+void run_fit(const FitArgs& a) {
+    if (a.model.empty() == a.models.empty())
+        throw Error("photometry fit: give one law as --model NAME or several to rank as --models a,b,c");
+    photometry::FitOptions o;
+    o.max_iterations = a.max_iterations;
+    o.precision = parse_precision(a.precision);
+    std::map<std::string, double> start;
+    for (const auto& s : a.params) start.insert(parse_param(s));
+    const photometry::FitData d = fit_data_from_args(a);
+    std::cout << "pixels: " << d.value.size() << " from " << d.images << " image(s), i <= " << a.incmax << ", e <= "
+              << a.emamax << " deg\n";
+    Runtime rt;
+    std::cout << "device: " << rt.device_description() << "\n";
+    if (!a.model.empty()) {
+        photometry::FitSpec s{a.model, start, a.free.empty() ? std::vector<std::string>{} : split(a.free, ',')};
+        std::cout << photometry::describe_fit(photometry::fit_law(rt, d, s, o));
+        return;
+    }
+    if (!a.free.empty()) throw Error("photometry fit: --free goes with --model (--models fits each law's defaults)");
+    std::vector<photometry::FitSpec> specs;
+    for (const auto& name : a.models) {
+        photometry::FitSpec s;
+        s.model = photometry::fit_model_name(name);
+        // -p values apply to the laws that have that parameter
+        for (const auto& [k, v] : start)
+            for (const auto& p : find_model(s.model).params)
+                if (p.name == k) s.start[k] = v;
+        specs.push_back(s);
+    }
+    const auto ranked = photometry::rank_laws(rt, d, specs, o);
+    for (const auto& r : ranked) std::cout << photometry::describe_fit(r) << "\n";
+    std::cout << photometry::describe_ranking(ranked);
+    std::cout << "best: " << ranked[0].model << "\n";
+}
+
 }  // namespace
 
 void add_photometry_command(CLI::App& app) {
@@ -297,6 +402,27 @@ void add_photometry_command(CLI::App& app) {
     fd->add_option("--emamax", f->emamax, "largest emission used, degrees")->capture_default_str();
     fd->add_flag("--offset", f->offset, "fit an additive offset too");
     fd->callback([f] { run_fit_disc(*f); });
+    auto h = std::make_shared<FitArgs>();
+    auto* ft = cmd->add_subcommand("fit", "Fit Hapke or a simpler law to one or several images at different phases "
+                                          "(bounded least squares on PoCL, standard errors, correlations); --models "
+                                          "ranks several laws by BIC");
+    ft->add_option("images", h->images, "the images (linear I/F), one per phase")->required();
+    ft->add_option("--model", h->model, "the law: hapke_hen, hapke_leg, hapke_2012, lunar_lambert, minnaert_1941, "
+                                        "lommel_seeliger, lambert, lunar_lambert_mcewen (or ISIS's names)");
+    ft->add_option("--models", h->models, "several laws to fit and rank, comma-separated")->delimiter(',');
+    ft->add_option("-p,--param", h->params, "name=value: the start of a fitted parameter, or the value of a fixed one");
+    ft->add_option("--free", h->free, "the parameters fitted, comma-separated (default: Hapke wh,b0,hh,theta,hg1 "
+                                      "(hapke_leg: bh,ch); other laws all theirs)");
+    ft->add_option("--phase", h->phase, "disc geometry: phase angle per image, degrees")->delimiter(',');
+    ft->add_option("--pa", h->pa, "disc geometry: sun position angle, once or per image (docs/moon.md)")->delimiter(',');
+    ft->add_option("--radius", h->radius, "disc geometry: radius in pixels, once or per image")->delimiter(',');
+    ft->add_option("--centre,--center", h->centre, "disc geometry: centre x,y, once or per image (repeat the option)");
+    ft->add_option("--backplanes", h->backplanes, "or PHASE,INCIDENCE,EMISSION images per image (repeat the option)");
+    ft->add_option("--incmax", h->incmax, "largest incidence used, degrees")->capture_default_str();
+    ft->add_option("--emamax", h->emamax, "largest emission used, degrees")->capture_default_str();
+    ft->add_option("--max-iterations", h->max_iterations, "Levenberg-Marquardt iterations")->capture_default_str();
+    ft->add_option("--precision", h->precision, "precise | fast (docs/precision.md)")->capture_default_str();
+    ft->callback([h] { run_fit(*h); });
 }
 
 }  // namespace shadelab::app

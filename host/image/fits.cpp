@@ -10,6 +10,9 @@
 #include <sstream>
 #include <vector>
 
+#include <fitsio.h>
+#include <memory>
+
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/limits.hpp"
@@ -35,55 +38,6 @@ std::string trim(const std::string& s) {
     return s.substr(b, s.find_last_not_of(' ') - b + 1);
 }
 
-// "KEY     = value / comment" -> value text (quotes removed for strings).
-std::string card_value(const std::string& card) {
-    if (card.size() < 10 || card.compare(8, 2, "= ") != 0) return "";
-    std::string v = card.substr(10);
-    const auto q = v.find_first_not_of(' ');
-    if (q != std::string::npos && v[q] == '\'') {
-        std::string out;
-        for (std::size_t i = q + 1; i < v.size(); ++i) {
-            if (v[i] == '\'') {
-                if (i + 1 < v.size() && v[i + 1] == '\'') { out += '\''; ++i; continue; }
-                break;
-            }
-            out += v[i];
-        }
-        return trim(out);
-    }
-    const auto slash = v.find('/');
-    return trim(slash == std::string::npos ? v : v.substr(0, slash));
-}
-
-long long card_int(const std::map<std::string, std::string>& kw, const std::string& key, const std::string& path) {
-    auto it = kw.find(key);
-    if (it == kw.end()) throw Error("FITS file '" + path + "' has no " + key + " keyword: not a valid FITS image");
-    char* end = nullptr;
-    const long long v = std::strtoll(it->second.c_str(), &end, 10);
-    if (it->second.empty() || *end != '\0')
-        throw Error("FITS file '" + path + "': " + key + " = '" + it->second + "' is not an integer");
-    return v;
-}
-
-double card_double(const std::map<std::string, std::string>& kw, const std::string& key, double def) {
-    auto it = kw.find(key);
-    if (it == kw.end()) return def;
-    std::string t = it->second;
-    std::replace(t.begin(), t.end(), 'D', 'E');   // FITS allows Fortran exponents
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    return (!t.empty() && *end == '\0' && std::isfinite(v)) ? v : def;
-}
-
-template <typename T>
-T load_be(const unsigned char* p) {
-    unsigned char b[sizeof(T)];
-    for (std::size_t i = 0; i < sizeof(T); ++i) b[i] = p[sizeof(T) - 1 - i];
-    T v;
-    std::memcpy(&v, b, sizeof(T));
-    return v;
-}
-
 std::string card(const std::string& key, const std::string& value_field, const std::string& comment = "") {
     std::string c = key;
     c.resize(8, ' ');
@@ -105,111 +59,161 @@ bool looks_numeric(const std::string& s) {
 
 }  // namespace
 
-bool is_fits_path(const std::string& path) {
-    const std::string e = lower_ext(path);
-    return e == ".fits" || e == ".fit" || e == ".fts";
+// The file part of a cfitsio name: "img.fits[SCI]" -> "img.fits" (cfitsio's extended file name syntax selects
+// an HDU in brackets).
+std::string fits_file_part(const std::string& path) {
+    if (!path.empty() && path.back() == ']') {
+        const auto open = path.rfind('[');
+        if (open != std::string::npos && open > 0) return path.substr(0, open);
+    }
+    return path;
 }
 
-Image read_fits(const std::string& path, std::map<std::string, std::string>* keywords) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error("cannot open FITS file '" + path + "' for reading");
+bool is_fits_path(const std::string& path) {
+    const std::string e = lower_ext(fits_file_part(path));
+    return e == ".fits" || e == ".fit" || e == ".fts" || e == ".fz";
+}
 
-    std::map<std::string, std::string> kw;
-    std::size_t header_bytes = 0;
-    bool ended = false;
-    std::vector<char> block(kBlock);
-    while (!ended) {
-        if (!in.read(block.data(), std::streamsize(kBlock)))
-            throw Error("FITS file '" + path + "' ends inside its header (no END card): the file is truncated");
-        header_bytes += kBlock;
-        for (std::size_t c = 0; c < kBlock / kCard; ++c) {
-            const std::string cd(block.data() + c * kCard, kCard);
-            const std::string key = trim(cd.substr(0, 8));
-            if (header_bytes == kBlock && c == 0 && key != "SIMPLE")
-                throw Error("'" + path + "' is not a FITS file (it does not start with SIMPLE)");
-            if (key == "END") { ended = true; break; }
-            if (!key.empty() && key != "COMMENT" && key != "HISTORY" && !kw.count(key)) kw[key] = card_value(cd);
-        }
-        if (header_bytes > 1000 * kBlock) throw Error("FITS file '" + path + "' has no END card in 1000 header blocks");
+namespace {
+
+// cfitsio's status as text, for one error line.
+std::string fits_status_text(int status) {
+    char text[FLEN_STATUS] = {0};
+    fits_get_errstatus(status, text);
+    return text;
+}
+
+struct FitsCloser {
+    void operator()(fitsfile* f) const {
+        int st = 0;
+        if (f) fits_close_file(f, &st);
     }
-    if (kw["SIMPLE"] != "T") throw Error("FITS file '" + path + "' says SIMPLE = F: it does not conform to FITS");
-    const long long bitpix = card_int(kw, "BITPIX", path);
-    const long long naxis = card_int(kw, "NAXIS", path);
+};
+
+// A keyword's value as text: quotes removed (and '' undoubled) for strings, the comment dropped.
+std::string keyword_value(const char* value) {
+    const std::string v = trim(value);
+    if (v.empty() || v[0] != '\'') return v;
+    std::string out;
+    for (std::size_t i = 1; i < v.size(); ++i) {
+        if (v[i] == '\'') {
+            if (i + 1 < v.size() && v[i + 1] == '\'') { out += '\''; ++i; continue; }
+            break;
+        }
+        out += v[i];
+    }
+    return trim(out);
+}
+
+}  // namespace
+
+// Read with cfitsio (Pence 1999; the FITS Standard 4.0): it applies BSCALE/BZERO, knows BLANK, reads extension
+// HDUs by cfitsio's bracket syntax (img.fits[1], img.fits[SCI]) and tile-compressed images (.fz) as images. The
+// checks shadelab adds: the file exists, the image is 2-D (or 3 colour planes), at most 65536 pixels a side.
+// When no HDU is named and the primary HDU has no image (NAXIS = 0, as in every .fz file), the first image
+// extension is read.
+Image read_fits(const std::string& path, std::map<std::string, std::string>* keywords) {
+    const std::string file = fits_file_part(path);
+    std::error_code ec;
+    if (!fs::exists(file, ec)) throw Error("image '" + path + "' not found: check the path");
+    const auto size = fs::file_size(file, ec);
+    if (!ec && size < kBlock)
+        throw Error("FITS file '" + path + "' is truncated: " + std::to_string(size) +
+                    " bytes, shorter than one 2880-byte header block");
+    fitsfile* raw_handle = nullptr;
+    int st = 0;
+    if (fits_open_file(&raw_handle, path.c_str(), READONLY, &st)) {
+        if (st == URL_PARSE_ERROR || st == BAD_HDU_NUM || st == END_OF_FILE)
+            throw Error("FITS file '" + path + "': the HDU named in brackets is not there (cfitsio: " +
+                        fits_status_text(st) + ")");
+        throw Error("'" + path + "' is not a readable FITS file (cfitsio: " + fits_status_text(st) + ")");
+    }
+    std::unique_ptr<fitsfile, FitsCloser> f(raw_handle);
+    int hdu = 0, hdutype = 0, naxis = 0, bitpix = 0;
+    fits_get_hdu_num(f.get(), &hdu);
+    fits_get_img_dim(f.get(), &naxis, &st);
+    const bool named = path != file;
+    if (!st && naxis == 0 && !named) {
+        // the primary HDU is empty: the first image extension (a compressed image counts as one)
+        int hdus = 0;
+        fits_get_num_hdus(f.get(), &hdus, &st);
+        for (int h = 2; h <= hdus && !st && naxis == 0; ++h) {
+            fits_movabs_hdu(f.get(), h, &hdutype, &st);
+            if (!st && (hdutype == IMAGE_HDU || fits_is_compressed_image(f.get(), &st))) fits_get_img_dim(f.get(), &naxis, &st);
+        }
+        fits_get_hdu_num(f.get(), &hdu);
+    }
+    if (st) throw Error("FITS file '" + path + "': " + fits_status_text(st) + " (is it truncated or not a FITS image?)");
     if (naxis == 0)
-        throw Error("FITS file '" + path + "' has no image in its primary HDU (NAXIS = 0); images in extensions "
-                    "are not read: copy the image HDU to a primary HDU first");
+        throw Error("FITS file '" + path + "' has no image in any HDU (NAXIS = 0): nothing to read");
     if (naxis != 2 && naxis != 3)
-        throw Error("FITS file '" + path + "' has NAXIS = " + std::to_string(naxis) + ": only 2-D images (or 3 colour planes) are read");
-    const long long w = card_int(kw, "NAXIS1", path), h = card_int(kw, "NAXIS2", path);
-    const long long planes = naxis == 3 ? card_int(kw, "NAXIS3", path) : 1;
+        throw Error("FITS file '" + path + "' has NAXIS = " + std::to_string(naxis) + " in HDU " + std::to_string(hdu) +
+                    ": only 2-D images (or 3 colour planes) are read");
+    long naxes[3] = {1, 1, 1};
+    if (fits_get_img_param(f.get(), 3, &bitpix, &naxis, naxes, &st))
+        throw Error("FITS file '" + path + "': " + fits_status_text(st));
+    const long long w = naxes[0], h = naxes[1], planes = naxis == 3 ? naxes[2] : 1;
     if (w < 1 || h < 1 || w > 65536 || h > 65536)
         throw Error("FITS file '" + path + "': image size " + std::to_string(w) + "x" + std::to_string(h) + " is not supported");
     if (planes != 1 && planes != 3)
         throw Error("FITS file '" + path + "' has " + std::to_string(planes) + " planes: only 1 (grey) or 3 (RGB) are read");
-    std::size_t bytes = 0;
-    switch (bitpix) {
-        case 8: bytes = 1; break;
-        case 16: bytes = 2; break;
-        case 32: bytes = 4; break;
-        case 64: bytes = 8; break;
-        case -32: bytes = 4; break;
-        case -64: bytes = 8; break;
-        default: throw Error("FITS file '" + path + "': BITPIX = " + std::to_string(bitpix) + " is not a FITS data type");
-    }
-    const double bscale = card_double(kw, "BSCALE", 1.0), bzero = card_double(kw, "BZERO", 0.0);
-    const bool has_blank = bitpix > 0 && kw.count("BLANK");
-    const long long blank = has_blank ? card_int(kw, "BLANK", path) : 0;
-
     const std::size_t n = std::size_t(w) * std::size_t(h) * std::size_t(planes);
     // The header's sizes are checked against the file and the memory limit before anything is allocated:
-    // a header of a few bytes may ask for gigabytes.
+    // a header of a few bytes may ask for gigabytes. (A tile-compressed image is checked by cfitsio as it reads.)
     const std::string dims = std::to_string(w) + "x" + std::to_string(h) + (planes > 1 ? "x" + std::to_string(planes) : "");
-    const auto file_bytes = fs::file_size(path, ec);
-    if (!ec && double(file_bytes) < double(header_bytes) + double(n) * double(bytes))
-        throw Error("FITS file '" + path + "' is truncated: its header says " + dims + " values of " +
-                    std::to_string(bytes) + " bytes (" + format_bytes(double(n) * double(bytes)) + "), the file holds " +
-                    format_bytes(double(file_bytes) - double(header_bytes)) + " after the header");
-    // Raw data, the float image (grey + alpha or RGBA) and the caller's copy.
+    int compressed_status = 0;
+    if (!fits_is_compressed_image(f.get(), &compressed_status)) {
+        const std::size_t bytes = std::size_t(std::abs(bitpix)) / 8;
+        LONGLONG head_start = 0, data_start = 0, data_end = 0;
+        int addr_status = 0;
+        const auto file_bytes = fs::file_size(file, ec);
+        if (!fits_get_hduaddrll(f.get(), &head_start, &data_start, &data_end, &addr_status) && !ec &&
+            double(file_bytes) < double(data_start) + double(n) * double(bytes))
+            throw Error("FITS file '" + path + "' is truncated: its header says " + dims + " values of " +
+                        std::to_string(bytes) + " bytes (" + format_bytes(double(n) * double(bytes)) +
+                        "), the file holds " + format_bytes(std::max(0.0, double(file_bytes) - double(data_start))) +
+                        " after the header");
+    }
+    // The float image (grey + alpha or RGBA), one row of doubles, and the caller's copy.
     check_memory("FITS image '" + path + "' (" + dims + ")",
-                 double(n) * double(bytes) + 2.0 * double(w) * double(h) * (planes == 1 ? 2.0 : 4.0) * 4.0);
-    std::vector<unsigned char> raw(n * bytes);
-    if (!in.read(reinterpret_cast<char*>(raw.data()), std::streamsize(raw.size())))
-        throw Error("FITS file '" + path + "' is truncated: its data are shorter than NAXIS1 x NAXIS2 x BITPIX say");
+                 2.0 * double(w) * double(h) * (planes == 1 ? 2.0 : 4.0) * 4.0 + double(w) * 9.0);
 
     const int ch = planes == 1 ? 2 : 4;
     Image img(int(w), int(h), ch);
-    std::size_t blanks = 0;
+    std::vector<double> row(static_cast<std::size_t>(w));
+    std::vector<char> null(static_cast<std::size_t>(w));
     for (long long p = 0; p < planes; ++p)
-        for (long long j = 0; j < h; ++j)
-            for (long long i = 0; i < w; ++i) {
-                const std::size_t k = (std::size_t(p) * std::size_t(h) + std::size_t(j)) * std::size_t(w) + std::size_t(i);
-                const unsigned char* q = raw.data() + k * bytes;
-                double v = 0.0;
-                bool bad = false;
-                switch (bitpix) {
-                    case 8: v = double(q[0]); bad = has_blank && (long long)q[0] == blank; break;
-                    case 16: { const auto x = load_be<std::int16_t>(q); v = double(x); bad = has_blank && x == blank; break; }
-                    case 32: { const auto x = load_be<std::int32_t>(q); v = double(x); bad = has_blank && x == blank; break; }
-                    case 64: { const auto x = load_be<std::int64_t>(q); v = double(x); bad = has_blank && x == blank; break; }
-                    case -32: v = double(load_be<float>(q)); break;
-                    default: v = load_be<double>(q); break;
-                }
-                v = bzero + bscale * v;
-                bad = bad || !std::isfinite(v) || std::abs(v) > 3.0e38;
-                const int y = int(h - 1 - j);   // bottom row stored first
-                const int c = planes == 1 ? 0 : int(p);
-                img.at(int(i), y, c) = bad ? 0.0f : float(v);
-                if (bad) {
-                    ++blanks;
-                    img.at(int(i), y, ch - 1) = 0.0f;
-                } else if (p == 0) {
-                    img.at(int(i), y, ch - 1) = 1.0f;
-                }
+        for (long long j = 0; j < h; ++j) {
+            long first[3] = {1, long(j + 1), long(p + 1)};
+            int anynul = 0;
+            if (fits_read_pixnull(f.get(), TDOUBLE, first, long(w), row.data(), null.data(), &anynul, &st)) {
+                if (st == END_OF_FILE || st == READ_ERROR)
+                    throw Error("FITS file '" + path + "' is truncated: its data are shorter than NAXIS1 x NAXIS2 x BITPIX say");
+                throw Error("FITS file '" + path + "': reading row " + std::to_string(j + 1) + ": " + fits_status_text(st));
             }
-    (void)blanks;
-    if (keywords) *keywords = kw;
+            const int y = int(h - 1 - j);   // bottom row stored first
+            const int c = planes == 1 ? 0 : int(p);
+            for (long long i = 0; i < w; ++i) {
+                const double v = row[std::size_t(i)];
+                const bool bad = null[std::size_t(i)] || !std::isfinite(v) || std::abs(v) > 3.0e38;
+                img.at(int(i), y, c) = bad ? 0.0f : float(v);
+                if (bad) img.at(int(i), y, ch - 1) = 0.0f;
+                else if (p == 0) img.at(int(i), y, ch - 1) = 1.0f;
+            }
+        }
+    if (keywords) {
+        keywords->clear();
+        int nkeys = 0;
+        fits_get_hdrspace(f.get(), &nkeys, nullptr, &st);
+        for (int k = 1; k <= nkeys && !st; ++k) {
+            char name[FLEN_KEYWORD] = {0}, value[FLEN_VALUE] = {0}, comment[FLEN_COMMENT] = {0};
+            if (fits_read_keyn(f.get(), k, name, value, comment, &st)) break;
+            const std::string key = trim(name);
+            if (!key.empty() && key != "COMMENT" && key != "HISTORY" && !keywords->count(key))
+                (*keywords)[key] = keyword_value(value);
+        }
+        st = 0;
+    }
     return img;
 }
 

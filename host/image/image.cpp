@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/limits.hpp"
 #include "image/fits.hpp"
+#include "image/raster.hpp"
 
 namespace fs = std::filesystem;
 
@@ -121,6 +122,7 @@ void write_image(const std::string& path, const Image& img) {
 
 Image read_image(const std::string& path) {
     if (is_fits_path(path)) return read_fits(path);
+    if (is_gdal_path(path)) return read_raster_band(path);   // ISIS3 cubes, PDS3/PDS4, GeoTIFF[band]
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
     // Keep straight alpha as stored (PNG): do not premultiply on read.

@@ -344,12 +344,30 @@ void check_geometry(const Geometry& g, const std::string& where) {
 
 // ---- evaluation ------------------------------------------------------------------------------------------
 
-std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows, Precision precision,
-                             bool raw) {
-    for (std::size_t r = 0; r < rows.size(); ++r) check_geometry(rows[r], "row " + std::to_string(r + 1));
-    std::vector<double> result(rows.size(), 0.0);
-    if (rows.empty()) return result;
+PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::size_t first, std::size_t n,
+                     std::size_t padded) {
+    PhoArrays p;
+    for (auto* v : {&p.mu0, &p.mu, &p.sin_i, &p.sin_e, &p.cos_g, &p.tan_half_g, &p.tan_half_psi}) v->assign(padded, 0.0f);
+    for (std::size_t j = 0; j < n; ++j) {
+        const Geometry& g = rows[first + j];
+        p.mu0[j] = float(cosd(g.incidence));
+        p.mu[j] = float(cosd(g.emission));
+        if (law.empirical) {
+            p.sin_i[j] = float(law.param_of_phase(g.phase));
+            p.sin_e[j] = float(law.brightness_of_phase(g.phase));
+            continue;
+        }
+        const double si = sind(g.incidence), se = sind(g.emission);
+        p.sin_i[j] = float(si);
+        p.sin_e[j] = float(se);
+        p.cos_g[j] = float(cosd(g.phase));
+        p.tan_half_g[j] = float(g.phase >= 180.0 ? 1e18 : std::tan(0.5 * g.phase * kDeg));
+        p.tan_half_psi[j] = float(tan_half_azimuth(g, si, se));
+    }
+    return p;
+}
 
+std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw) {
     std::vector<std::string> defines;
     if (law.empirical) {
         defines = {"SL_MODEL_HEADER=<models/planetary.cl>", "SL_EVAL=lommel_seeliger_eval"};
@@ -360,45 +378,36 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
     }
     if (precision == Precision::Fast) defines.push_back("SL_FAST=1");
     if (raw) defines.push_back("SL_PHO_RAW=1");
+    return defines;
+}
+
+std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows, Precision precision,
+                             bool raw) {
+    for (std::size_t r = 0; r < rows.size(); ++r) check_geometry(rows[r], "row " + std::to_string(r + 1));
+    std::vector<double> result(rows.size(), 0.0);
+    if (rows.empty()) return result;
     try {
-        cl::Program prog = rt.build("photometry.cl", defines, Shader::options_for(precision));
+        cl::Program prog = rt.build("photometry.cl", pho_defines(law, precision, raw), Shader::options_for(precision));
         const auto consts = law.empirical ? std::vector<ModelConsts>{} : pack_material(law.material);
         const std::size_t chunk = std::size_t(1) << 22, local = 256;
         for (std::size_t first = 0; first < rows.size(); first += chunk) {
             const std::size_t n = std::min(chunk, rows.size() - first), padded = round_up(n, local);
             // padded to the launch size (eval_photometric has no bounds check): the padding is mu0 = mu = 0, unlit
-            std::vector<float> mu0(padded, 0.0f), mu(padded, 0.0f), a(padded, 0.0f), b(padded, 0.0f), c(padded, 0.0f),
-                d(padded, 0.0f), e(padded, 0.0f);
-            for (std::size_t j = 0; j < n; ++j) {
-                const Geometry& g = rows[first + j];
-                mu0[j] = float(cosd(g.incidence));
-                mu[j] = float(cosd(g.emission));
-                if (law.empirical) {
-                    a[j] = float(law.param_of_phase(g.phase));
-                    b[j] = float(law.brightness_of_phase(g.phase));
-                    continue;
-                }
-                const double si = sind(g.incidence), se = sind(g.emission);
-                a[j] = float(si);
-                b[j] = float(se);
-                c[j] = float(cosd(g.phase));
-                d[j] = float(g.phase >= 180.0 ? 1e18 : std::tan(0.5 * g.phase * kDeg));
-                e[j] = float(tan_half_azimuth(g, si, se));
-            }
+            const PhoArrays p = pho_arrays(law, rows, first, n, padded);
             cl::Buffer bout(rt.context(), CL_MEM_WRITE_ONLY, padded * sizeof(float));
             cl::Kernel k;
             std::vector<cl::Buffer> keep;
             if (law.empirical) {
                 k = cl::Kernel(prog, "eval_empirical");
-                keep = {to_device(rt, mu0), to_device(rt, mu), to_device(rt, a), to_device(rt, b)};
+                keep = {to_device(rt, p.mu0), to_device(rt, p.mu), to_device(rt, p.sin_i), to_device(rt, p.sin_e)};
                 for (cl_uint i = 0; i < 4; ++i) k.setArg(i, keep[i]);
                 k.setArg(4, bout);
                 k.setArg(5, cl_uint(n));
                 k.setArg(6, cl_uint(law.empirical));
             } else {
                 k = cl::Kernel(prog, "eval_photometric");
-                keep = {to_device(rt, mu0), to_device(rt, mu), to_device(rt, a), to_device(rt, b),
-                        to_device(rt, c), to_device(rt, d), to_device(rt, e)};
+                keep = {to_device(rt, p.mu0), to_device(rt, p.mu), to_device(rt, p.sin_i), to_device(rt, p.sin_e),
+                        to_device(rt, p.cos_g), to_device(rt, p.tan_half_g), to_device(rt, p.tan_half_psi)};
                 for (cl_uint i = 0; i < 7; ++i) k.setArg(i, keep[i]);
                 keep.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                   consts.size() * sizeof(ModelConsts), const_cast<ModelConsts*>(consts.data()));

@@ -77,6 +77,17 @@ void check_geometry(const Geometry& g, const std::string& where);
 // (only from invalid input) are written as 0, except with `raw` (the tests: so that they can be counted).
 std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows,
                              Precision precision = Precision::Precise, bool raw = false);
+// The seven per-row inputs of kernels/photometry.cl for rows[first, first + n), computed in double and stored as
+// float: cos i, cos e, sin i, sin e, cos g, tan(g/2), tan(psi/2) (the empirical laws: cos i, cos e, K(g) or L(g),
+// B(g) in the first four). Padded to `padded` rows with mu0 = mu = 0 (unlit: the kernels have no bounds check).
+struct PhoArrays {
+    std::vector<float> mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi;
+};
+PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::size_t first, std::size_t n,
+                     std::size_t padded);
+// The defines kernels/photometry.cl is built with for this law.
+std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw);
+
 // The law at one geometry with the double-precision references (host/reference/).
 double evaluate_reference(const Law& law, const Geometry& g);
 
