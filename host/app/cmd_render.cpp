@@ -40,6 +40,7 @@ struct RenderArgs {
     bool per_vertex = false;
     double tolerance = 0.0;            // > 0: plan (docs/planner.md) and render the cheapest config within it
     std::string metric = "de2000";
+    bool no_catalogue = false;         // --tolerance without the per-material catalogue search (the old planner)
 };
 
 void parse_size(const std::string& s, int& w, int& h) {
@@ -130,11 +131,12 @@ void run_render(RenderArgs a) {
         pin.ambient = setup.ambient;
         PlanOptions po;
         po.tolerance = a.tolerance;
+        po.catalogue = !a.no_catalogue;
         if (a.metric == "relative") po.metric = PlanMetric::Relative;
         else if (a.metric != "de2000") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
         const Plan plan = make_plan(rt, pin, po);
         if (!a.quiet) std::cerr << format_plan(plan, po);
-        setup.material = plan_material(mat, plan.chosen.config);
+        setup.material = plan.materials.front();
         setup.lights = plan.kept_lights;
         setup.precision = plan.chosen.config.precision;
         per_vertex = plan.chosen.config.per_vertex;
@@ -189,6 +191,8 @@ void add_render_command(CLI::App& app) {
                     "Plan first: render the cheapest configuration whose error stays within this (docs/planner.md)");
     cmd->add_option("--metric", args->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")
         ->capture_default_str();
+    cmd->add_flag("--no-catalogue", args->no_catalogue,
+                  "With --tolerance: only the requested model or Lambert, no catalogue search (docs/planner.md)");
     cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path");
     cmd->callback([args] { run_render(*args); });
 }
