@@ -121,6 +121,7 @@ void run_render(RenderArgs a) {
     setup.view = glm::dvec4(cam.eye, 1.0);
     setup.precision = parse_precision(a.precision);
     bool per_vertex = a.per_vertex;
+    double plan_ms = 0.0;   // stated apart from shading, which starts after the plan
     if (a.tolerance > 0.0) {
         PlanInput pin;
         pin.camera = cam;
@@ -140,7 +141,9 @@ void run_render(RenderArgs a) {
         setup.lights = plan.kept_lights;
         setup.precision = plan.chosen.config.precision;
         per_vertex = plan.chosen.config.per_vertex;
+        plan_ms = plan.planning_ms;
     }
+    const auto t2s = clock::now();
     ShadeTiming st;
     const auto rgb = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, setup, &st))
                                 : shader.shade(fb, setup, &st);
@@ -151,7 +154,9 @@ void run_render(RenderArgs a) {
     if (!a.quiet) {
         std::cerr << "device " << rt.device_description() << "\n";
         std::cerr << "load " << ms(t0, t1) << " ms, rasterise " << ms(t1, t2) << " ms (" << fb.size()
-                  << " fragments), shade " << ms(t2, t3) << " ms (kernel " << st.kernel_ms << " ms, build "
+                  << " fragments), "
+                  << (a.tolerance > 0.0 ? "plan " + std::to_string(plan_ms) + " ms, " : std::string()) << "shade "
+                  << ms(t2s, t3) << " ms (kernel " << st.kernel_ms << " ms, build "
                   << st.build_ms << " ms), write " << ms(t3, t4) << " ms\n";
     }
     std::cout << a.output << "\n";
