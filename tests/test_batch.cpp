@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cl/runtime.hpp"
+#include "color/image_compare.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
 #include "models/catalogue.hpp"
@@ -482,4 +483,50 @@ TEST_CASE("a batch killed mid-run leaves only complete images", "[batch][cli]") 
             ++complete;
         }
     std::cout << "killed batch: " << complete << " complete images in place\n";
+}
+
+TEST_CASE("batch --tolerance shades with the catalogue substitute the plan chose, within the tolerance",
+          "[batch][plan][modelfit]") {
+    // Oren-Nayar sigma 0.5 on a quad seen head-on: Lambert is off by the factor A (about 0.6, far over Delta E
+    // 1), so the old planner keeps the model; the catalogue has cheaper equivalents (oren_nayar_st is the same
+    // function without trigonometry). The written EXR must be within Delta E 1 of the requested model rendered
+    // without any plan (precise per pixel kernel, itself ~1e-5 from the double reference: test_oren_nayar.cpp).
+    const fs::path dir = scratch("tolerance_catalogue");
+    std::ostringstream log;
+    const std::string scene =
+        "{ \"camera\": { \"position\": [0, 0, 3], \"target\": [0, 0, 0], \"fov\": 20 }, \"resolution\": [24, 16], "
+        "\"meshes\": [ { \"path\": \"" + test::kData + "/scene_quad.obj\", \"material\": { \"model\": \"oren_nayar\", "
+        "\"params\": { \"sigma\": 0.5 }, \"albedo\": [0.6, 0.5, 0.4] } } ], "
+        "\"lights\": [ { \"type\": \"directional\", \"direction\": [0.3, 0.2, 1] } ], "
+        "\"outputs\": { \"exr\": \"{name}.exr\" } }";
+    BatchOptions plain = options_for(dir, log);
+    plain.out_dir = (dir / "plain").string();
+    plain.scenes = {write(dir / "on.json", scene)};
+    REQUIRE(run_batch(plain, test::runtime()).ok == 1);
+    const Image requested = read_image((dir / "plain" / "on.exr").string());
+
+    BatchOptions o = options_for(dir, log);
+    o.scenes = plain.scenes;
+    o.tolerance = 1.0;
+    const BatchSummary s = run_batch(o, test::runtime());
+    INFO(log.str());
+    REQUIRE(s.ok == 1);
+    bool substituted = false;
+    for (const auto& w : s.jobs[0].warnings) substituted = substituted || w.find("mesh 1 oren_nayar -> ") != std::string::npos;
+    CHECK(substituted);
+    const Image img = read_image((dir / "out" / "on.exr").string());
+    CHECK(count_non_finite(img) == 0);
+    REQUIRE(img.width == requested.width);
+    CHECK(compare_images(img, requested, 1e-3).de_max <= 1.0);
+    CHECK(!compare_images(img, requested, 1e-3).coverage_mismatch);
+
+    // Without the catalogue search the old planner runs: no substitution, the requested model is kept.
+    BatchOptions o2 = options_for(dir, log);
+    o2.out_dir = (dir / "old").string();
+    o2.scenes = o.scenes;
+    o2.tolerance = 1.0;
+    o2.tolerance_catalogue = false;
+    const BatchSummary s2 = run_batch(o2, test::runtime());
+    REQUIRE(s2.ok == 1);
+    for (const auto& w : s2.jobs[0].warnings) CHECK(w.find(" -> ") == std::string::npos);
 }

@@ -32,6 +32,7 @@ struct BatchArgs {
     bool list = false;
     double tolerance = 0.0;
     std::string metric = "de2000";
+    bool no_catalogue = false;
 };
 
 struct ContactArgs {
@@ -86,6 +87,7 @@ void run_batch_command(const BatchArgs& a) {
     o.tolerance = a.tolerance;
     if (a.metric != "de2000" && a.metric != "relative") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
     o.tolerance_relative = a.metric == "relative";
+    o.tolerance_catalogue = !a.no_catalogue;
     if (a.list) {
         // The jobs this shard would run, in order: a dry run for checking a sharding plan.
         for (const auto& j : plan_batch(o)) std::cout << j.index << "\t" << j.scene << (j.mesh.empty() ? "" : "\t" + j.mesh) << "\n";
@@ -128,6 +130,8 @@ void add_batch_command(CLI::App& app) {
     cmd->add_option("--tolerance", a->tolerance,
                     "Plan each job and shade with the cheapest configuration within this error (docs/planner.md)");
     cmd->add_option("--metric", a->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")->capture_default_str();
+    cmd->add_flag("--no-catalogue", a->no_catalogue,
+                  "With --tolerance: only the requested model or Lambert per job, no catalogue search (docs/planner.md)");
     cmd->add_flag("--no-overlap", a->no_overlap,
                   "Rasterise each job right before it shades instead of during the previous job's shading");
     cmd->add_option("--progress", a->progress, "auto (bar on a terminal, lines otherwise), bar, lines or quiet")

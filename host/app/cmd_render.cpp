@@ -42,6 +42,7 @@ struct RenderArgs {
     double tolerance = 0.0;            // > 0: plan (docs/planner.md) and render the cheapest config within it
     std::string metric = "de2000";
     std::string max_memory;            // overrides the memory limit (core/limits.hpp)
+    bool no_catalogue = false;         // --tolerance without the per-material catalogue search (the old planner)
 };
 
 
@@ -129,6 +130,7 @@ void run_render(RenderArgs a) {
     setup.view = glm::dvec4(cam.eye, 1.0);
     setup.precision = parse_precision(a.precision);
     bool per_vertex = a.per_vertex;
+    double plan_ms = 0.0;   // stated apart from shading, which starts after the plan
     if (a.tolerance > 0.0) {
         PlanInput pin;
         pin.camera = cam;
@@ -139,15 +141,18 @@ void run_render(RenderArgs a) {
         pin.ambient = setup.ambient;
         PlanOptions po;
         po.tolerance = a.tolerance;
+        po.catalogue = !a.no_catalogue;
         if (a.metric == "relative") po.metric = PlanMetric::Relative;
         else if (a.metric != "de2000") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
         const Plan plan = make_plan(rt, pin, po);
         if (!a.quiet) std::cerr << format_plan(plan, po);
-        setup.material = plan_material(mat, plan.chosen.config);
+        setup.material = plan.materials.front();
         setup.lights = plan.kept_lights;
         setup.precision = plan.chosen.config.precision;
         per_vertex = plan.chosen.config.per_vertex;
+        plan_ms = plan.planning_ms;
     }
+    const auto t2s = clock::now();
     ShadeTiming st;
     const auto rgb = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, setup, &st))
                                 : shader.shade(fb, setup, &st);
@@ -158,7 +163,9 @@ void run_render(RenderArgs a) {
     if (!a.quiet) {
         std::cerr << "device " << rt.device_description() << "\n";
         std::cerr << "load " << ms(t0, t1) << " ms, rasterise " << ms(t1, t2) << " ms (" << fb.size()
-                  << " fragments), shade " << ms(t2, t3) << " ms (kernel " << st.kernel_ms << " ms, build "
+                  << " fragments), "
+                  << (a.tolerance > 0.0 ? "plan " + std::to_string(plan_ms) + " ms, " : std::string()) << "shade "
+                  << ms(t2s, t3) << " ms (kernel " << st.kernel_ms << " ms, build "
                   << st.build_ms << " ms), write " << ms(t3, t4) << " ms\n";
     }
     std::cout << a.output << "\n";
@@ -198,6 +205,8 @@ void add_render_command(CLI::App& app) {
                     "Plan first: render the cheapest configuration whose error stays within this (docs/planner.md)");
     cmd->add_option("--metric", args->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")
         ->capture_default_str();
+    cmd->add_flag("--no-catalogue", args->no_catalogue,
+                  "With --tolerance: only the requested model or Lambert, no catalogue search (docs/planner.md)");
     cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path");
     cmd->add_option("--max-memory", args->max_memory,
                     "Refuse sizes needing more memory than this (e.g. 32G; default: the machine's memory, or SHADELAB_MAX_MEMORY)");

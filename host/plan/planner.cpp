@@ -13,6 +13,7 @@
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
 #include "reference/reference.hpp"
+#include "plan/substitute.hpp"
 #include "shade/gouraud.hpp"
 
 namespace shadelab {
@@ -71,12 +72,17 @@ struct Shaded {
     double time_ms = 0.0;   // kernel device time (+ host interpolation for per-vertex)
 };
 
+// The material item k renders with under cfg: its catalogue substitute, or the requested one (or Lambert).
+Material item_material(const PlanInput& in, std::size_t k, const PlanConfig& cfg, const std::vector<Material>& subs) {
+    return cfg.catalogue ? subs[k] : plan_material(in.items[k].material, cfg);
+}
+
 Shaded shade_frame(Shader& shader, const Frame& f, const PlanInput& in, const std::vector<Light>& lights,
-                   const PlanConfig& cfg) {
+                   const PlanConfig& cfg, const std::vector<Material>& subs) {
     Shaded s;
     for (std::size_t k = 0; k < f.fragments.size(); ++k) {
         ShadeSetup setup;
-        setup.material = plan_material(in.items[k].material, cfg);
+        setup.material = item_material(in, k, cfg, subs);
         setup.lights = lights;
         setup.ambient = in.ambient;
         setup.view = glm::dvec4(in.camera.eye, 1.0);
@@ -98,7 +104,7 @@ Shaded shade_frame(Shader& shader, const Frame& f, const PlanInput& in, const st
 }  // namespace
 
 std::string PlanConfig::label() const {
-    std::string s = simplify_to_lambert ? "lambert" : "as requested";
+    std::string s = catalogue ? "catalogue per material" : simplify_to_lambert ? "lambert" : "as requested";
     s += std::string(", ") + precision_name(precision);
     s += per_vertex ? ", per vertex" : ", per pixel";
     if (icosphere_level >= 0) s += ", icosphere level " + std::to_string(icosphere_level);
@@ -119,6 +125,7 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
     if (in_raw.items.empty()) throw Error("plan: the scene has no meshes");
     if (!(opt.tolerance > 0.0) || !std::isfinite(opt.tolerance))
         throw Error("plan: tolerance must be a finite number > 0 (Delta E 2000 or relative error)");
+    const auto t_start = clock_type::now();
     PlanInput in = in_raw;
     for (auto& it : in.items) it.material = resolve_material(it.material);
     Shader shader(runtime);
@@ -169,6 +176,20 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
         can_simplify = can_simplify || (it.material.model != "lambert" && it.material.children.empty());
         sphere_level = std::max(sphere_level, it.icosphere_level);
     }
+    // The catalogue search per material (fits, each verified and timed); its substitutes become one more
+    // dimension, combined with the others and verified again below.
+    std::vector<Material> subs;
+    bool any_substitute = false;
+    if (opt.catalogue && !in.lights.empty()) {
+        plan.catalogue = plan_substitutions(runtime, in, opt);
+        plan.catalogue_searched = true;
+        for (const auto& it : plan.catalogue.items) {
+            subs.push_back(it.chosen);
+            any_substitute = any_substitute || it.chosen.model != it.requested.model;
+        }
+    } else if (opt.catalogue) {
+        plan.notes.push_back("the catalogue search needs at least one light: skipped");
+    }
     std::vector<PlanConfig> configs;
     std::vector<int> levels{-1};
     for (int l = sphere_level - 1; l >= std::max(0, sphere_level - 3); --l) levels.push_back(l);
@@ -177,8 +198,13 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
         for (Precision p : {Precision::Precise, Precision::Fast})
             for (bool pv : {false, true})
                 for (int l : levels)
-                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{simplify, p, pv, l});
+                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{simplify, false, p, pv, l});
     }
+    if (any_substitute)
+        for (Precision p : {Precision::Precise, Precision::Fast})
+            for (bool pv : {false, true})
+                for (int l : levels)
+                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{false, true, p, pv, l});
 
     std::vector<Frame> full_levels, verify_levels;   // per entry of `levels`
     for (int l : levels) {
@@ -190,7 +216,7 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
         const std::size_t li = std::size_t(std::find(levels.begin(), levels.end(), cfg.icosphere_level) - levels.begin());
         PlanMeasure m;
         m.config = cfg;
-        const Shaded v = shade_frame(shader, verify_levels[li], in, plan.kept_lights, cfg);
+        const Shaded v = shade_frame(shader, verify_levels[li], in, plan.kept_lights, cfg, subs);
         const ImageDiff d = compare_images(compose(verify_levels[li], v.planes), reference, 1e-3);
         m.de_max = d.de_max;
         m.de_p99 = d.de_p99;
@@ -204,7 +230,7 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
         // been timed, at most 40 runs), so sub-millisecond kernels are not compared on jitter.
         double best = std::numeric_limits<double>::infinity(), spent = 0.0;
         for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
-            const double t = shade_frame(shader, full_levels[li], in, plan.kept_lights, cfg).time_ms;
+            const double t = shade_frame(shader, full_levels[li], in, plan.kept_lights, cfg, subs).time_ms;
             best = std::min(best, t);
             spent += t;
         }
@@ -223,6 +249,8 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
     if (!plan.requested.within)
         plan.notes.push_back("even the requested configuration is off the double reference by more than the tolerance "
                              "(float rounding): the requested configuration is kept");
+    for (std::size_t k = 0; k < in.items.size(); ++k) plan.materials.push_back(item_material(in, k, plan.chosen.config, subs));
+    plan.planning_ms = std::chrono::duration<double, std::milli>(clock_type::now() - t_start).count();
     return plan;
 }
 
@@ -230,6 +258,7 @@ std::string format_plan(const Plan& p, const PlanOptions& opt) {
     std::ostringstream s;
     const char* metric = opt.metric == PlanMetric::DeltaE2000 ? "max Delta E 2000" : "max relative error";
     s << "tolerance: " << metric << " <= " << opt.tolerance << "\n";
+    if (p.catalogue_searched) s << format_substitutions(p.catalogue, opt);
     for (const auto& d : p.dropped_lights) s << "dropped " << d << "\n";
     for (const auto& n : p.notes) s << "note: " << n << "\n";
     s << std::left << std::setw(50) << "configuration" << std::right << std::setw(12) << "dE00 max" << std::setw(12)
@@ -242,6 +271,15 @@ std::string format_plan(const Plan& p, const PlanOptions& opt) {
     }
     s << "chosen: " << p.chosen.config.label() << " (" << metric << " " << p.chosen.error << ", measured speed-up "
       << p.chosen.speedup << "x)\n";
+    if (p.chosen.config.catalogue)
+        for (std::size_t k = 0; k < p.materials.size(); ++k) {
+            s << "  mesh " << (k + 1) << " renders with " << p.materials[k].model << "(";
+            bool first = true;
+            for (const auto& [name, v] : p.materials[k].params)
+                s << (first ? "" : ", ") << name << "=" << std::setprecision(5) << v, first = false;
+            s << ")\n";
+        }
+    s << "planning took " << std::setprecision(4) << p.planning_ms << " ms\n";
     s << "(* chosen, x over tolerance; time = full-resolution shading: kernel device time, plus host interpolation for per-vertex)\n";
     return s.str();
 }

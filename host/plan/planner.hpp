@@ -7,7 +7,10 @@
 //              its Lambert k, specular terms that never reach the tolerance all reduce to it);
 //   precision  precise or fast (kernels/common.cl);
 //   evaluation per pixel, or per vertex (Gouraud: shade the vertices, interpolate);
-//   tessellation  for icosphere meshes (analytic spheres), coarser levels.
+//   tessellation  for icosphere meshes (analytic spheres), coarser levels;
+//   catalogue  with PlanOptions::catalogue (the default of plan/render/batch --tolerance): per material, the
+//              substitute the catalogue search found (host/plan/substitute.hpp), combined with every
+//              precision, evaluation and tessellation above and verified like every other candidate.
 // Lights that contribute exactly nothing to any fragment (below every surface's horizon for this model,
 // beyond their range) are dropped from every configuration, so their code is compiled out.
 #pragma once
@@ -46,10 +49,12 @@ struct PlanOptions {
     int verify_pixels = 256 * 256;   // verification renders are reduced to about this many pixels (stated)
     bool allow_per_vertex = true;    // false: per-pixel candidates only (the batch renderer's path)
     int timing_repeats = 3;          // at least N kernel timings at full resolution, more for small scenes (best kept)
+    bool catalogue = false;          // also search the catalogue per material (host/plan/substitute.hpp)
 };
 
 struct PlanConfig {
     bool simplify_to_lambert = false;
+    bool catalogue = false;          // each mesh with its catalogue substitute (Plan::catalogue)
     Precision precision = Precision::Precise;
     bool per_vertex = false;
     int icosphere_level = -1;        // -1: as requested
@@ -67,6 +72,26 @@ struct PlanMeasure {
     bool applicable = true;                              // false: the option changes nothing here
 };
 
+// The catalogue search's result (host/plan/substitute.hpp).
+struct Substitution {
+    std::size_t item = 0;
+    Material requested;
+    Material chosen;                 // == requested when nothing cheaper stays within the tolerance
+    double fit_rel_rms = 0.0;        // the fit's own error on the material's fragments (grey)
+    double error = 0.0;              // verified: the plan metric of the scene with this substitution alone
+    double model_speedup = 1.0;      // this mesh's full-resolution shading time, requested / chosen
+    int tried = 0;                   // candidates fitted and verified
+};
+
+struct SubstitutionPlan {
+    std::vector<Substitution> items;
+    double error = 0.0;              // verified: every substitution at once
+    bool within = false;
+    double requested_ms = 0.0, chosen_ms = 0.0, speedup = 1.0;   // full-resolution shading time, best of runs
+    double planning_ms = 0.0;        // the whole search (fits, verifications, timings)
+    int verify_width = 0, verify_height = 0;
+};
+
 struct Plan {
     PlanMeasure requested;
     PlanMeasure chosen;
@@ -75,6 +100,10 @@ struct Plan {
     std::vector<Light> kept_lights;
     int verify_width = 0, verify_height = 0;
     std::vector<std::string> notes;
+    std::vector<Material> materials;   // per item: what the chosen configuration renders it with
+    bool catalogue_searched = false;
+    SubstitutionPlan catalogue;        // when searched: the per-material substitutes the catalogue candidates use
+    double planning_ms = 0.0;          // the whole plan: catalogue search, verifications, timings
 };
 
 Plan make_plan(Runtime& runtime, const PlanInput& input, const PlanOptions& options);

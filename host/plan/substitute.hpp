@@ -17,25 +17,6 @@
 
 namespace shadelab {
 
-struct Substitution {
-    std::size_t item = 0;
-    Material requested;
-    Material chosen;                 // == requested when nothing cheaper stays within the tolerance
-    double fit_rel_rms = 0.0;        // the fit's own error on the material's fragments (grey)
-    double error = 0.0;              // verified: the plan metric of the scene with this substitution alone
-    double model_speedup = 1.0;      // this mesh's full-resolution shading time, requested / chosen
-    int tried = 0;                   // candidates fitted and verified
-};
-
-struct SubstitutionPlan {
-    std::vector<Substitution> items;
-    double error = 0.0;              // verified: every substitution at once
-    bool within = false;
-    double requested_ms = 0.0, chosen_ms = 0.0, speedup = 1.0;   // full-resolution shading time, best of runs
-    double planning_ms = 0.0;        // the whole search (fits, verifications, timings)
-    int verify_width = 0, verify_height = 0;
-};
-
 SubstitutionPlan plan_substitutions(Runtime& runtime, const PlanInput& input, const PlanOptions& options);
 
 std::string format_substitutions(const SubstitutionPlan& plan, const PlanOptions& options);

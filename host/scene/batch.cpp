@@ -100,6 +100,7 @@ struct Prepared {
     bool planned = false;                  // --tolerance: shade with the plan's choice
     PlanConfig plan_config;
     std::vector<Light> plan_lights;
+    std::vector<Material> plan_materials;  // per mesh
     std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
 };
 
@@ -240,13 +241,19 @@ Prepared Runner::prepare(const BatchJob& job) {
             po.tolerance = opt_.tolerance;
             po.metric = opt_.tolerance_relative ? PlanMetric::Relative : PlanMetric::DeltaE2000;
             po.allow_per_vertex = false;
+            po.catalogue = opt_.tolerance_catalogue;
             const Plan plan = make_plan(rt_, pin, po);
             p.planned = true;
             p.plan_config = plan.chosen.config;
             p.plan_lights = plan.kept_lights;
+            p.plan_materials = plan.materials;
             std::ostringstream note;
             note << "plan: " << plan.chosen.config.label() << " (error " << plan.chosen.error << ", measured speed-up "
-                 << plan.chosen.speedup << "x";
+                 << plan.chosen.speedup << "x, planning " << plan.planning_ms << " ms";
+            if (plan.chosen.config.catalogue)
+                for (std::size_t k = 0; k < plan.materials.size(); ++k)
+                    if (plan.materials[k].model != pin.items[k].material.model)
+                        note << ", mesh " << (k + 1) << " " << pin.items[k].material.model << " -> " << plan.materials[k].model;
             if (!plan.dropped_lights.empty()) note << ", " << plan.dropped_lights.size() << " light(s) compiled out";
             note << ")";
             r.warnings.push_back(note.str());
@@ -308,7 +315,7 @@ void Runner::shade(Prepared& p) {
             setup.view = glm::dvec4(p.eye, 1.0);
             setup.precision = s.precision;
             if (p.planned) {
-                setup.material = plan_material(setup.material, p.plan_config);
+                setup.material = p.plan_materials[mi];
                 setup.lights = p.plan_lights;
                 setup.precision = p.plan_config.precision;
             }

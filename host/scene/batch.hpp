@@ -35,6 +35,7 @@ struct BatchOptions {
     ProgressStyle progress = ProgressStyle::Auto;
     double tolerance = 0.0;            // > 0: plan each job (docs/planner.md) and shade with the chosen config
     bool tolerance_relative = false;   // the tolerance is a max relative error, not a max Delta E 2000
+    bool tolerance_catalogue = true;   // the plan searches the catalogue per material (docs/planner.md)
     std::ostream* log = nullptr;       // progress, failures, summary; nullptr: std::cerr
 };
 
