@@ -719,7 +719,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);   // --help
+        std::cerr << "bench_e2e: error: " << e.what() << " (see bench_e2e --help)\n";
+        return 2;
     }
     if (o.smoke) {
         o.meshes = {mesh_dir + "/spot.obj"};

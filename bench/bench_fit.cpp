@@ -8,6 +8,7 @@
 // cached on disk in ~/.cache/pocl afterwards), which is not fitting.
 //
 // usage: bench_fit [--smoke] [--samples N]    (--smoke: 4096 samples, three models, no target check)
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cstring>
 #include <iomanip>
@@ -50,14 +51,17 @@ void print(const std::string& what, const Figures& f) {
 int main(int argc, char** argv) {
     bool smoke = false;
     std::size_t samples = 65536;
-    for (int i = 1; i < argc; ++i) {
-        if (!std::strcmp(argv[i], "--smoke")) smoke = true, samples = 4096;
-        else if (!std::strcmp(argv[i], "--samples") && i + 1 < argc) samples = std::stoul(argv[++i]);
-        else {
-            std::cerr << "usage: bench_fit [--smoke] [--samples N]\n";
-            return 2;
-        }
+    CLI::App app{"bench_fit: fit time for one pair and for --all against one target, model evaluations per second"};
+    app.add_flag("--smoke", smoke, "Tiny run for the test suite (4096 samples), no timing claims");
+    app.add_option("--samples", samples, "Hemisphere samples per fit")->check(CLI::Range(std::size_t(256), std::size_t(1) << 24));
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "bench_fit: error: " << e.what() << " (see bench_fit --help)\n";
+        return 2;
     }
+    if (smoke) samples = 4096;
     try {
         using clock = std::chrono::steady_clock;
         Runtime rt;

@@ -3,6 +3,7 @@
 // float, and against the single-threaded double reference; then a 5-parameter Hapke fit (photometry fit) of one
 // 512x512 disc image. Prints figures, asserts nothing about speed.
 //   bench_photometry [--n N] [--smoke]
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -101,10 +102,18 @@ double seconds(clock_type::time_point a, clock_type::time_point b) { return std:
 
 int main(int argc, char** argv) {
     std::size_t n = std::size_t(1) << 24;
-    for (int a = 1; a < argc; ++a) {
-        if (!std::strcmp(argv[a], "--smoke")) n = 1 << 12;
-        else if (!std::strcmp(argv[a], "--n") && a + 1 < argc) n = std::stoul(argv[++a]);
+    bool smoke = false;
+    CLI::App app{"bench_photometry: Hapke on PoCL against a 2-thread C++ loop and the double reference"};
+    app.add_flag("--smoke", smoke, "Tiny run for the test suite (4096 geometries), no timing claims");
+    app.add_option("--n", n, "Geometries per run")->check(CLI::Range(std::size_t(256), std::size_t(1) << 28));
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "bench_photometry: error: " << e.what() << " (see bench_photometry --help)\n";
+        return 2;
     }
+    if (smoke) n = 1 << 12;
     const HapkeParams hp{0.52f, 1.0f, 1.0f, 30.0f, 0.213f, 1.0f};
     const photometry::Law law = photometry::law_from_model(
         "hapke_hen", {{"wh", 0.52}, {"b0", 1.0}, {"hh", 1.0}, {"theta", 30.0}, {"hg1", 0.213}, {"hg2", 1.0}});
@@ -181,7 +190,7 @@ int main(int argc, char** argv) {
     std::printf("PoCL vs double reference: %.1fx   (checksum %.6g)\n", cl_rate / ref_rate, sink);
 
     // A 5-parameter Hapke fit (wh, b0, hh, theta, hg1) of one disc image, 512x512 (smoke: 64x64), phase 30.
-    const bool smoke = n <= (1u << 12);
+    // (smoke: the --smoke flag above)
     moon::DiscRenderOptions o;
     o.width = o.height = smoke ? 64 : 512;
     o.disc = moon::Disc{0.5 * o.width, 0.5 * o.height, 0.47 * o.width};

@@ -15,6 +15,7 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "core/text.hpp"
 #include "core/atomic_file.hpp"
 #include "photometry/csv.hpp"
@@ -70,16 +71,16 @@ void run_eval(const EvalArgs& a) {
             }
     }
     Runtime rt;
-    std::cout << "law: " << law.describe() << "\n";
+    log_out() << "law: " << law.describe() << "\n";
     if (single) {
         const photometry::Geometry g{a.phase, a.incidence, a.emission};
         const double v = photometry::evaluate(rt, law, {g}, precision)[0];
-        std::cout << "geometry: phase " << g.phase << " deg, incidence " << g.incidence << " deg, emission "
+        log_out() << "geometry: phase " << g.phase << " deg, incidence " << g.incidence << " deg, emission "
                   << g.emission << " deg\n";
         if (a.reference)
             std::cout << "reference (double): " << std::setprecision(12) << photometry::evaluate_reference(law, g) << "\n";
-        std::cout << "device: " << rt.device_description() << ", " << precision_name(precision) << " mode\n"
-                  << "value: " << std::setprecision(9) << v << "\n";
+        log_out() << "device: " << rt.device_description() << ", " << precision_name(precision) << " mode\n";
+        std::cout << "value: " << std::setprecision(9) << v << "\n";
         return;
     }
     if (a.out.empty()) throw Error("photometry eval --csv: give the output table with -o OUT.csv");
@@ -92,9 +93,9 @@ void run_eval(const EvalArgs& a) {
     photometry::write_values_csv(a.out, t, values);
     const auto t3 = clock::now();
     auto s = [](auto d) { return std::chrono::duration<double>(d).count(); };
-    std::cout << "rows: " << t.geometry.size() << " (read " << s(t1 - t0) << " s, evaluate " << s(t2 - t1)
-              << " s incl. kernel build, write " << s(t3 - t2) << " s)\n"
-              << "wrote: " << a.out << "\n";
+    log_out() << "rows: " << t.geometry.size() << " (read " << s(t1 - t0) << " s, evaluate " << s(t2 - t1)
+              << " s incl. kernel build, write " << s(t3 - t2) << " s)\n";
+    std::cout << "wrote: " << a.out << "\n";
 }
 
 struct EmpiricalArgs {
