@@ -359,7 +359,7 @@ std::vector<double> integer_values(const ParamSpec& p, const Axis& ax) {
 }
 
 // The coarse candidate sets: a grid over up to 3 parameters (per axis 129, 33, 13 points), else 2048
-// quasi-random points; whole-number parameters take their candidate values.
+// quasi-random points; whole-number parameters take their candidate values; and the defaults.
 std::vector<std::vector<double>> coarse_sets(const Space& sp, const std::vector<double>& base) {
     std::vector<std::size_t> dims = sp.free_c;
     dims.insert(dims.end(), sp.free_i.begin(), sp.free_i.end());
@@ -400,11 +400,13 @@ std::vector<std::vector<double>> coarse_sets(const Space& sp, const std::vector<
             }
             sets.push_back(x);
         }
-        // The defaults as one more candidate: they are often a sensible start.
-        std::vector<double> x = base;
-        for (std::size_t q = 0; q < d; ++q) x[dims[q]] = sp.info->params[dims[q]].def;
-        sets.push_back(x);
     }
+    // The defaults as one more candidate, for grids too: they are often a sensible start, and a model whose
+    // error is steep in its parameters (lunar_lambert_mcewen_ratio near the terminator) may have no grid point
+    // near its optimum.
+    std::vector<double> x = base;
+    for (std::size_t q = 0; q < d; ++q) x[dims[q]] = sp.info->params[dims[q]].def;
+    sets.push_back(x);
     return sets;
 }
 
