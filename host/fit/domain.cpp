@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "reference/reference.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "moon/fit.hpp"
@@ -212,22 +213,7 @@ Domain scene_domain(const std::string& file, std::uint64_t seed) {
         const glm::dvec3 V = glm::normalize(eye - P);
         for (const Light& li : s.lights) {
             glm::dvec3 L;
-            double atten = 1.0;
-            if (li.type == Light::Type::Directional) {
-                L = glm::normalize(li.vec);
-            } else {
-                // Inverse square, windowed by (1 - (d/range)^4)^2 when a range is given (Karis 2013), as the kernels.
-                const glm::dvec3 dl = li.vec - P;
-                const double d2 = std::max(glm::dot(dl, dl), 1e-12);
-                L = dl / std::sqrt(d2);
-                double window = 1.0;
-                if (li.range > 0.0) {
-                    const double q = d2 / (li.range * li.range);
-                    window = std::clamp(1.0 - q * q, 0.0, 1.0);
-                    window *= window;
-                }
-                atten = window / d2;
-            }
+            const double atten = ref::light_incident(li, P, L);
             d.N.push_back(N);
             d.L.push_back(L);
             d.V.push_back(V);

@@ -107,21 +107,7 @@ fit::Domain item_domain(const Frame& f, std::size_t k, const PlanInput& in, std:
         const glm::dvec3 V = glm::normalize(in.camera.eye - P);
         for (const Light& li : in.lights) {
             glm::dvec3 L;
-            double atten = 1.0;
-            if (li.type == Light::Type::Directional) {
-                L = glm::normalize(li.vec);
-            } else {   // as the kernels: inverse square, windowed to 0 at the range (Karis 2013)
-                const glm::dvec3 dl = li.vec - P;
-                const double d2 = std::max(glm::dot(dl, dl), 1e-12);
-                L = dl / std::sqrt(d2);
-                double window = 1.0;
-                if (li.range > 0.0) {
-                    const double q2 = d2 / (li.range * li.range);
-                    window = std::clamp(1.0 - q2 * q2, 0.0, 1.0);
-                    window *= window;
-                }
-                atten = window / d2;
-            }
+            const double atten = ref::light_incident(li, P, L);
             d.N.push_back(N);
             d.L.push_back(L);
             d.V.push_back(V);

@@ -54,20 +54,23 @@ static double point_attenuation(double d2, double range) {
     return window / d2;
 }
 
+double light_incident(const Light& li, const dvec3& P, dvec3& L) {
+    if (li.type == Light::Type::Directional) {
+        L = glm::normalize(li.vec);
+        return 1.0;
+    }
+    const dvec3 d = li.vec - P;
+    const double d2 = std::max(glm::dot(d, d), 1e-12);
+    L = d / std::sqrt(d2);
+    return point_attenuation(d2, li.range);
+}
+
 dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material& m,
                   const std::vector<Light>& lights, const dvec3& ambient) {
     dvec3 sum = ambient * m.albedo;
     for (const Light& li : lights) {
         dvec3 L;
-        double atten = 1.0;
-        if (li.type == Light::Type::Directional) {
-            L = glm::normalize(li.vec);
-        } else {
-            const dvec3 d = li.vec - P;
-            const double d2 = std::max(glm::dot(d, d), 1e-12);
-            L = d / std::sqrt(d2);
-            atten = point_attenuation(d2, li.range);
-        }
+        const double atten = light_incident(li, P, L);
         sum += li.colour * li.intensity * atten * eval_material(N, L, V, P, m);
     }
     return sum;

@@ -30,6 +30,10 @@ std::vector<std::string> models_with_reference();
 // Evaluates the material (its own model, which may call its children's references).
 dvec3 eval_material(const dvec3& N, const dvec3& L, const dvec3& V, const dvec3& P, const Material& m);
 
+// Light `li` at P: sets L to the unit direction to it and returns its attenuation (1 for directional lights;
+// inverse square, windowed to 0 at the range, for point lights: the kernels' light_incident_v3).
+double light_incident(const Light& li, const dvec3& P, dvec3& L);
+
 // The multi-light sum of the Shader Story equation for one point:
 //   sum_i  colour_i * intensity_i * atten_i(P) * model(N, L_i, V)  +  ambient * albedo
 dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material& m,
