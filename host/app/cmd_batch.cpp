@@ -8,6 +8,7 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "image/image.hpp"
 #include "core/log.hpp"
 #include "scene/batch.hpp"
 #include "scene/report_merge.hpp"
@@ -177,7 +178,7 @@ void add_batch_command(CLI::App& app) {
     auto* con = app.add_subcommand("contact",
                                    "One image with every model of the catalogue (default parameters) on a sphere "
                                    "and on a mesh, labelled");
-    con->add_option("-o,--output", c->opt.output, "Output image (.png sRGB or .exr linear)")->capture_default_str();
+    con->add_option("-o,--output", c->opt.output, std::string("Output image: ") + kOutputFormats)->capture_default_str();
     con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere (default: the bundled spot.obj)");
     con->add_option("--turn", c->opt.mesh_turn_deg, "Turn the mesh this many degrees about +y")->capture_default_str();
     con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();

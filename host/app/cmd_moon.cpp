@@ -703,7 +703,7 @@ void add_moon_command(CLI::App& app) {
             ->capture_default_str();
         c->add_option("--noise", a->noise, "Add Gaussian noise of this sigma (I/F units) to the disc")->capture_default_str();
         c->add_option("--seed", a->seed, "Seed of the noise")->capture_default_str();
-        c->add_option("-o,--output", a->output, "Output image: .exr .tif .fits (linear float) or .png (sRGB 8-bit)")
+        c->add_option("-o,--output", a->output, std::string("Output image: ") + kOutputFormats)
             ->capture_default_str();
         c->add_flag("-q,--quiet", a->quiet, "Print only the output path");
         c->callback([a] { run_render(*a); });

@@ -175,9 +175,9 @@ void run_render(RenderArgs a) {
 
 void add_render_command(CLI::App& app) {
     auto args = std::make_shared<RenderArgs>();
-    auto* cmd = app.add_subcommand("render", "Shade one mesh with one model and write an image (.png sRGB, .exr linear)");
+    auto* cmd = app.add_subcommand("render", "Shade one mesh with one model and write an image (.png sRGB, .exr .tif .fits linear, ...)");
     cmd->add_option("mesh", args->mesh, "Mesh file: .obj .off .ply .stl")->required();
-    cmd->add_option("-o,--output", args->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")
+    cmd->add_option("-o,--output", args->output, std::string("Output image: ") + kOutputFormats)
         ->capture_default_str();
     cmd->add_option("-m,--model", args->model, "Lighting model (see 'shadelab models')")->capture_default_str();
     cmd->add_option("-p,--param", args->params, "Model parameter name=value (repeatable)");

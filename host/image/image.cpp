@@ -57,8 +57,7 @@ Encoding encoding_for(const std::string& path) {
     if (ext == ".exr" || ext == ".hdr" || ext == ".tif" || ext == ".tiff" || ext == ".fits" || ext == ".fit" ||
         ext == ".fts")
         return Encoding::Linear;
-    throw Error("output '" + path + "' has an unsupported extension: use .png (sRGB 8-bit) or .exr (linear float)"
-                " (also .jpg .bmp .tga .webp .hdr .tif .fits)");
+    throw Error("output '" + path + "' has an unsupported extension: use " + std::string(kOutputFormats));
 }
 
 namespace {

@@ -36,6 +36,8 @@ Encoding encoding_for(const std::string& path);
 // FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
 // leaves a truncated image. Refuses (shadelab::Error) images holding NaN or Inf: they are bugs upstream.
 void write_image(const std::string& path, const Image& img);
+// The formats write_image takes, for --help texts and errors: one list, so no command's help can drift from it.
+constexpr const char* kOutputFormats = ".png .jpg .bmp .tga .webp (sRGB 8-bit) or .exr .hdr .tif .fits (linear float)";
 
 // Reads any format OpenImageIO reads (FITS by image/fits.hpp); 8-bit sRGB-encoded formats are decoded to linear.
 Image read_image(const std::string& path);
