@@ -3,23 +3,43 @@
 // The double-precision references live apart, in host/reference/, and share no code with this.
 #pragma once
 #include <array>
+#include <cstring>
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "consts/model_consts.h"   // ModelConsts, shared with the kernels (kernels/consts/)
 #include "models/material.hpp"
 
 namespace shadelab {
 
-constexpr int kModelConstCount = 24;   // must match SL_MAX_CONSTS in kernels/common.cl
+constexpr int kModelConstCount = SL_MAX_CONSTS;   // floats in ModelConsts.block
 
-// Host mirror of ModelConsts in kernels/common.cl (plain floats: identical layout on both sides).
-struct ModelConsts {
-    float albedo[4];
-    float specular[4];
-    float c[kModelConstCount];
-};
-static_assert(sizeof(ModelConsts) == 4 * (8 + kModelConstCount), "ModelConsts layout");
+// Parameter-only constants, computed once per material: params in the model's `params` order, resolved; writes
+// the model's struct (kernels/consts/<family>.h) into ModelConsts.block.
+using PackFn = std::function<void(const std::vector<double>& params, float* block)>;
+
+// A PackFn from a function that returns the model's constant struct T (e.g. OrenNayarConsts), so that a family
+// fills named fields and never an offset.
+template <class T, class F>
+PackFn packer(F make) {
+    static_assert(std::is_trivially_copyable_v<T>, "a model's constants are plain floats");
+    static_assert(sizeof(T) <= sizeof(ModelConsts::c), "a model's constants must fit ModelConsts.block");
+    return [make](const std::vector<double>& params, float* block) {
+        const T k = make(params);
+        std::memcpy(block, &k, sizeof k);
+    };
+}
+
+// The model's struct T as packed into `k` (what a kernel reads through SL_CONSTS).
+template <class T>
+T consts_of(const ModelConsts& k) {
+    static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= sizeof(ModelConsts::c));
+    T out;
+    std::memcpy(&out, k.c, sizeof out);
+    return out;
+}
 
 struct ParamSpec {
     std::string name;
@@ -39,8 +59,7 @@ struct ModelInfo {
     std::string eval;      // kernel function: float3 f(float3 N, float3 L, float3 V, float3 P, consts*)
     std::vector<ParamSpec> params;
     int children = 0;      // number of child materials it blends (gradient: 2)
-    // Parameter-only constants, computed once per material: params are in `params` order, resolved.
-    std::function<void(const std::vector<double>& params, float* c)> pack;
+    PackFn pack;           // its constants (none: the model reads only albedo and specular)
     bool reciprocal = false;         // f_r(L, V) == f_r(V, L) (value / NoL symmetric) at EVERY parameter value in range
     bool energy_conserving = false;  // directional albedo <= 1 for albedo 1, at every parameter value in range
 };
