@@ -1,5 +1,6 @@
 // The wrap-lighting family (kernels/models/wrap.cl, docs/models/wrap.md): half-Lambert, the seed's
 // squared diffuse wrap and Filament's energy-conserving wrap. Constants are packed once per material here.
+#include "consts/wrap.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
@@ -28,9 +29,11 @@ ParamSpec wrap_value_param() {
             "1 no wrap (max(0, NoL)^2)"};
 }
 
-void pack_wrap_value(const std::vector<double>& p, float* c) {
-    c[0] = float(p[0]);
-    c[1] = float(1.0 - p[0]);
+WrapConsts wrap_consts(const std::vector<double>& p) {
+    WrapConsts k{};
+    k.a = float(p[0]);
+    k.one_minus_a = float(1.0 - p[0]);
+    return k;
 }
 
 }  // namespace
@@ -54,7 +57,7 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
         ModelInfo m = base("wrap", "seed 001's diffuse wrap: albedo * max(0, NoL a + 1 - a)^2, NoL unclamped, a in [0.5, 1]",
                            "seed 001 (Half-Lambert / diffuse wrap); a = 0.5 is Valve's half-Lambert", "wrap_eval");
         m.params = {wrap_value_param()};
-        m.pack = pack_wrap_value;
+        m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;   // hemisphere 2 (1 - (1 - a)^3) / (3 a): 7/6 at a = 0.5
         out.push_back(m);
     }
@@ -63,7 +66,7 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "seed 001 (clamped NoL as in its half-Lambert code); the reference is wrap",
                            "wrap_seed001_eval");
         m.params = {wrap_value_param()};
-        m.pack = pack_wrap_value;
+        m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;
         out.push_back(m);
     }
@@ -73,10 +76,12 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "wrap_energy_eval");
         m.params = {{"w", 0.5, 0.0, 1.0,
                      "wrap amount: 0 Lambert, 1 light wraps to NoL = -1; the terminator is at NoL = -w"}};
-        m.pack = [](const std::vector<double>& p, float* c) {
-            c[0] = float(p[0]);
-            c[1] = float(1.0 / ((1.0 + p[0]) * (1.0 + p[0])));
-        };
+        m.pack = packer<WrapEnergyConsts>([](const std::vector<double>& p) {
+            WrapEnergyConsts k{};
+            k.w = float(p[0]);
+            k.inv_sq = float(1.0 / ((1.0 + p[0]) * (1.0 + p[0])));
+            return k;
+        });
         m.energy_conserving = true;   // sphere: exactly 1; hemisphere: (1 + 2w) / (1 + w)^2 <= 1
         out.push_back(m);
     }
