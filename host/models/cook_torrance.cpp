@@ -3,6 +3,7 @@
 // Fresnel term. Parameter-only constants (1/m^2, the dielectric's index) are packed here, once per material.
 #include <cmath>
 
+#include "consts/cook_torrance.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
@@ -19,22 +20,24 @@ void register_cook_torrance_family(std::vector<ModelInfo>& out) {
         {"ks", 1.0, 0.0, 1.0,
          "weight of the specular part (times the specular colour); pi/4 = 0.785 gives today's 4 NoL NoV denominator"},
     };
-    auto pack = [](const std::vector<double>& p, float* c) {
+    const PackFn pack = packer<CookTorranceConsts>([](const std::vector<double>& p) {
         const double m = p[0], f0 = p[1];
-        c[0] = float(m);
-        c[1] = float(f0);
-        c[2] = float(p[2]);
-        c[3] = float(p[3]);
-        c[4] = float(1.0 / (m * m));
-        c[5] = float(1.0 / (M_PI * m * m));
-        c[6] = float(m * m);
+        CookTorranceConsts c{};
+        c.m = float(m);
+        c.f0 = float(f0);
+        c.kd = float(p[2]);
+        c.ks = float(p[3]);
+        c.inv_m2 = float(1.0 / (m * m));
+        c.inv_pi_m2 = float(1.0 / (M_PI * m * m));
+        c.m2 = float(m * m);
         // The dielectric with normal-incidence reflectance f0 = ((eta - 1) / (eta + 1))^2 has
         // eta = (1 + sqrt f0) / (1 - sqrt f0); the kernel takes 1/eta, which is 0 (not infinite) at f0 = 1.
         const double s = std::sqrt(f0);
         const double inv_eta = (1.0 - s) / (1.0 + s);
-        c[7] = float(inv_eta);
-        c[8] = float(1.0 - inv_eta * inv_eta);
-    };
+        c.inv_eta = float(inv_eta);
+        c.one_minus_inv_eta2 = float(1.0 - inv_eta * inv_eta);
+        return c;
+    });
     auto add = [&](const char* name, const char* summary, const char* eval, const char* source) {
         ModelInfo m;
         m.name = name;
