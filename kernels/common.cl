@@ -25,7 +25,7 @@
 #include "consts/scene.h"
 
 // A model's own constants as its named struct (consts/<family>.h), e.g. SL_CONSTS(OrenNayarConsts, mc)->A.
-#define SL_CONSTS(T, mc) ((__constant const T*)(mc)->c)
+#define SL_CONSTS(T, mc) ((__constant const T*)(mc)->block)
 
 SL_INLINE float sl_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
 

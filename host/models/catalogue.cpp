@@ -123,7 +123,7 @@ std::vector<ModelConsts> pack_material(const Material& m) {
             k.albedo[c] = float(mat.albedo[c]);
             k.specular[c] = float(mat.specular[c]);
         }
-        if (info.pack) info.pack(ordered_params(info, mat), k.c);
+        if (info.pack) info.pack(ordered_params(info, mat), k.block);
         return k;
     };
     std::vector<ModelConsts> out{pack_one(m)};

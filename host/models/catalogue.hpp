@@ -25,7 +25,7 @@ using PackFn = std::function<void(const std::vector<double>& params, float* bloc
 template <class T, class F>
 PackFn packer(F make) {
     static_assert(std::is_trivially_copyable_v<T>, "a model's constants are plain floats");
-    static_assert(sizeof(T) <= sizeof(ModelConsts::c), "a model's constants must fit ModelConsts.block");
+    static_assert(sizeof(T) <= sizeof(ModelConsts::block), "a model's constants must fit ModelConsts.block");
     return [make](const std::vector<double>& params, float* block) {
         const T k = make(params);
         std::memcpy(block, &k, sizeof k);
@@ -35,9 +35,9 @@ PackFn packer(F make) {
 // The model's struct T as packed into `k` (what a kernel reads through SL_CONSTS).
 template <class T>
 T consts_of(const ModelConsts& k) {
-    static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= sizeof(ModelConsts::c));
+    static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= sizeof(ModelConsts::block));
     T out;
-    std::memcpy(&out, k.c, sizeof out);
+    std::memcpy(&out, k.block, sizeof out);
     return out;
 }
 

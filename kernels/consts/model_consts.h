@@ -16,12 +16,12 @@ SL_SHARED_BEGIN
 typedef struct {
     float albedo[4];              // diffuse colour (rgb, linear; [3] unused)
     float specular[4];            // specular colour (rgb, linear; [3] unused)
-    float c[SL_MAX_CONSTS];       // the model's own constants (its struct, for the converted families)
+    float block[SL_MAX_CONSTS];   // the model's own constants, as its struct
 } ModelConsts;
 SL_SIZE_IS(ModelConsts, 8 + SL_MAX_CONSTS)
 SL_FIELD_AT(ModelConsts, albedo, 0)
 SL_FIELD_AT(ModelConsts, specular, 4)
-SL_FIELD_AT(ModelConsts, c, 8)
+SL_FIELD_AT(ModelConsts, block, 8)
 
 // A model's struct fits in ModelConsts.block (host only: the kernels cannot overrun what they never index).
 #if defined(__OPENCL_VERSION__) || defined(__OPENCL_C_VERSION__)
