@@ -34,7 +34,10 @@ void require_ascending(double a, double b, const char* na, const char* nb) {
 
 }  // namespace
 
-void register_banded_toon_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 40 in the catalogue.
+ModelFamily register_banded_toon_family() {
+    ModelFamily family{"banded_toon", 40, "banded and toon", "docs/models/banded_toon.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("banded", "banded Lambert: albedo * floor(max(0, NoL) steps + 1/2) / steps",
                            "seed 001 (banded lighting), with _LightSteps read as the band count its author meant",
@@ -48,6 +51,8 @@ void register_banded_toon_family(std::vector<ModelInfo>& out) {
             return k;
         });
         m.energy_conserving = true;   // 2 * integral of round(x s)/s over [0, 1] is exactly 1 for every s
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.06e-8, 2e-7, 7.06e-8, 2e-7}};
         out.push_back(m);
     }
     {
@@ -67,6 +72,8 @@ void register_banded_toon_family(std::vector<ModelInfo>& out) {
         // Directional albedo 1 where t divides 256 and below 1 otherwise (min 0.89 at t = 171), computed
         // band by band for every t in tests/test_banded_toon.cpp, although single levels can exceed 1.
         m.energy_conserving = true;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.06e-8, 2e-7, 7.06e-8, 2e-7}};
         out.push_back(m);
     }
     {
@@ -115,8 +122,14 @@ void register_banded_toon_family(std::vector<ModelInfo>& out) {
             return k;
         });
         m.energy_conserving = false;   // e.g. levels above NoL on most of the lit side, plus the highlight
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 4.66e-4, 1.5e-3, 4.66e-4, 1.5e-3},
+            {"diffuse_l3=0", 6.12e-3, 2e-2, 6.12e-3, 2e-2},
+        };
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -8,7 +8,10 @@
 
 namespace shadelab {
 
-void register_gradient_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 80 in the catalogue.
+ModelFamily register_gradient_family() {
+    ModelFamily family{"gradient", 80, "gradient blend", "docs/models/gradient.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     ModelInfo m;
     m.name = "gradient";
     m.family = "gradient";
@@ -43,7 +46,14 @@ void register_gradient_family(std::vector<ModelInfo>& out) {
     });
     m.reciprocal = false;          // inherits its children's property (the catalogue test skips blends)
     m.energy_conserving = false;   // a convex blend conserves iff both children do; not a property of its own
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 4.17e-6, 1.2e-5, 4.17e-6, 1.2e-5},
+        // fast was 3.05e-2 with PoCL's native_cos (argument reduction lost past 5e4 rad); own cos in both modes now
+        {"period=0.0001", 2.00e-2, 6e-2, 2.00e-2, 6e-2},
+    };
     out.push_back(m);
+    return family;
 }
 
 }  // namespace shadelab

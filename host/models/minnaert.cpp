@@ -34,7 +34,10 @@ ModelInfo base(const char* name, const char* summary, const char* source, const 
 
 }  // namespace
 
-void register_minnaert_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 50 in the catalogue.
+ModelFamily register_minnaert_family() {
+    ModelFamily family{"minnaert", 50, "Minnaert", "docs/models/minnaert.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("minnaert_1941", "Minnaert's lunar law: albedo * NoL^k * NoV^(k-1) (k = 1 Lambert)",
                            "Minnaert (1941) The Reciprocity Principle in Lunar Photometry, ApJ 93:403; seed 002",
@@ -45,6 +48,8 @@ void register_minnaert_family(std::vector<ModelInfo>& out) {
         m.pack = packer<MinnaertConsts>(limb_guard_consts);
         m.reciprocal = true;           // f_r = (albedo/pi) (NoL NoV)^(k-1), guard symmetric
         m.energy_conserving = false;   // directional albedo 2/(k+1) NoV^(k-1): > 1 for k < 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.33e-6, 4e-6, 1.33e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -63,6 +68,8 @@ void register_minnaert_family(std::vector<ModelInfo>& out) {
         // (tests/test_minnaert.cpp checks both sides).
         m.reciprocal = false;
         m.energy_conserving = false;   // directional albedo 2/(2+k) at V = N: up to 2 for k = -1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.33e-6, 4e-6, 1.33e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -83,6 +90,8 @@ void register_minnaert_family(std::vector<ModelInfo>& out) {
         // whole range (tests/test_minnaert.cpp checks both sides).
         m.reciprocal = false;
         m.energy_conserving = false;   // d < 1 multiplies Lambert by up to 0.1^(d-1) = 10
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.33e-7, 2e-6, 7.86e-7, 2.5e-6}};
         out.push_back(m);
     }
     {
@@ -98,6 +107,8 @@ void register_minnaert_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = false;          // NoL^k (1 - NoV)^(1-k) is not symmetric
         m.energy_conserving = true;    // value <= albedo * NoL everywhere: never brighter than Lambert
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.42e-6, 4e-6, 1.56e-6, 5e-6}};
         out.push_back(m);
     }
     {
@@ -119,8 +130,11 @@ void register_minnaert_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;   // directional albedo mu^(k-1): > 1 at oblique incidence for k < 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.39e-6, 4e-6, 1.39e-6, 4e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -75,7 +75,10 @@ ModelInfo base(const std::string& name, const std::string& summary, const std::s
 
 }  // namespace
 
-void register_oren_nayar_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 60 in the catalogue.
+ModelFamily register_oren_nayar_family() {
+    ModelFamily family{"oren_nayar", 60, "Oren-Nayar", "docs/models/oren_nayar.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     const std::string paper = "Oren & Nayar (1994) Generalization of Lambert's Reflectance Model, SIGGRAPH";
     const std::string sigma_doc = "facet slope standard deviation, radians (0 = Lambert)";
 
@@ -86,6 +89,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<OrenNayarConsts>(qon_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // directional albedo reaches 1.015 at grazing view, sigma ~ 0.2 (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.44e-7, 2e-6, 7.44e-7, 2e-6}};
         out.push_back(m);
     }
     {
@@ -95,6 +100,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<OrenNayarConsts>(qon_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // the same function as oren_nayar
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.44e-7, 2e-6, 7.44e-7, 2e-6}};
         out.push_back(m);
     }
     {
@@ -112,6 +119,11 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;   // the rho^2 interreflection term lifts it above 1 for albedo near 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 7.74e-7, 2e-6, 7.74e-7, 2e-6},
+            {"sigma=1.5708", 2.62e-5, 8e-5, 2.62e-5, 8e-5},
+        };
         out.push_back(m);
     }
     {
@@ -123,6 +135,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<OrenNayarAlbedoConsts>(albedo_term_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // the albedo colour term adds energy (docs table)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.71e-7, 2e-6, 7.71e-7, 2e-6}};
         out.push_back(m);
     }
     {
@@ -140,6 +154,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;   // the unclamped, azimuth-free B term exceeds 1 (docs table)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 8.46e-7, 2.5e-6, 8.46e-7, 2.5e-6}};
         out.push_back(m);
     }
     {
@@ -156,6 +172,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;   // the A nearer 1 overshoots at grazing view for small sigma (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.95e-7, 2.5e-6, 7.95e-7, 2.5e-6}};
         out.push_back(m);
     }
     {
@@ -166,6 +184,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<OrenNayarConsts>(qon_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // 1.0036 at grazing view, sigma ~ 0.14: less than QON's 1.015 (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 9.92e-7, 3e-6, 9.92e-7, 3e-6}};
         out.push_back(m);
     }
     {
@@ -183,6 +203,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = true;    // normalised at NoV = 0, where its albedo is exactly 1 (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.42e-6, 7e-6, 2.42e-6, 7e-6}};
         out.push_back(m);
     }
     {
@@ -194,6 +216,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<OrenNayarAlbedoConsts>(albedo_term_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // Fujii: violated for albedo > 0.97
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.71e-7, 2e-6, 7.71e-7, 2e-6}};
         out.push_back(m);
     }
     {
@@ -205,6 +229,8 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<EonConsts>(eon_consts);
         m.reciprocal = true;
         m.energy_conserving = true;    // white furnace 1 to the integration error (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.07e-6, 6e-6, 2.07e-6, 6e-6}};
         out.push_back(m);
     }
     {
@@ -214,8 +240,11 @@ void register_oren_nayar_family(std::vector<ModelInfo>& out) {
         m.pack = packer<EonConsts>(eon_consts);
         m.reciprocal = true;
         m.energy_conserving = false;   // the fit's error lifts the furnace to 1.00015 near 82 deg (docs)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.14e-6, 6e-6, 2.14e-6, 6e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -65,13 +65,21 @@ PhongNormalizedConsts normalized_consts(const std::vector<double>& p, double nor
 
 }  // namespace
 
-void register_phong_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 30 in the catalogue.
+ModelFamily register_phong_family() {
+    ModelFamily family{"phong", 30, "Phong and Blinn-Phong", "docs/models/phong.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("phong", "Phong: albedo max(0, NoL) + ks specular [NoL > 0] max(0, RoV)^n", kPhong, "phong_eval");
         m.params = {exponent_param(32.0), ks_param()};
         m.pack = packer<PhongConsts>(phong_consts);
         m.reciprocal = false;          // value / NoL = albedo + ks RoV^n / NoL
         m.energy_conserving = false;   // un-normalised lobe added to a full Lambert term
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
+            {"n=10000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
+        };
         out.push_back(m);
     }
     {
@@ -87,6 +95,11 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = false;
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
+            {"gloss=40000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
+        };
         out.push_back(m);
     }
     {
@@ -100,6 +113,11 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;          // RoV = R(L).V = R(V).L and value / NoL has no other L, V asymmetry
         m.energy_conserving = true;   // lobe albedo 1 at V = N, less elsewhere; (1 - ks) + ks <= 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 1.33e-5, 4e-5, 1.32e-5, 4e-5},
+            {"n=10000", 3.10e-3, 9e-3, 3.10e-3, 9e-3},
+        };
         out.push_back(m);
     }
     {
@@ -109,6 +127,11 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         m.pack = packer<PhongConsts>(phong_consts);
         m.reciprocal = false;          // value / NoL = albedo + ks NoH^n / NoL: reciprocal only as f_r (normalized)
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
+            {"n=10000", 9.40e-4, 3e-3, 9.40e-4, 3e-3},
+        };
         out.push_back(m);
     }
     {
@@ -120,6 +143,11 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         m.pack = packer<PhongConsts>(phong_consts);   // seed 001: pow(NdotH, _SpecularGloss), no / 4
         m.reciprocal = false;
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
+            {"gloss=40000", 1.09e-3, 3e-3, 1.09e-3, 3e-3},
+        };
         out.push_back(m);
     }
     {
@@ -133,6 +161,11 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;          // H, hence NoH, is symmetric in L and V
         m.energy_conserving = true;   // lobe albedo exactly 1 at V = N, less elsewhere (tests/test_phong.cpp)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
+            {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
+        };
         out.push_back(m);
     }
     {
@@ -146,8 +179,14 @@ void register_phong_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;   // (n+8)/8 exceeds the exact factor: lobe albedo up to 1.074 (n = 11)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
+            {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
+        };
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

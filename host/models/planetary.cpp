@@ -90,12 +90,17 @@ McEwenConsts mcewen_consts(const std::vector<double>& p) {
 
 }  // namespace
 
-void register_planetary_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 90 in the catalogue.
+ModelFamily register_planetary_family() {
+    ModelFamily family{"planetary", 90, "planetary (ISIS3's photometric laws)", "docs/photometry.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("lommel_seeliger", "Lommel-Seeliger, ISIS's normalisation: albedo * 2 NoL / (NoL + NoV)",
                            "Seeliger (1888); ISIS3 LommelSeeliger photometric model", "lommel_seeliger_eval");
         m.reciprocal = true;   // f_r = 2 albedo / (pi (NoL + NoV))
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 5.15e-7, 1.5e-6, 5.15e-7, 1.5e-6}};
         out.push_back(m);
     }
     {
@@ -110,6 +115,12 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;   // f_r = albedo/pi ((1 - L) + 2L / (NoL + NoV)): symmetric
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 5.52e-7, 1.5e-6, 5.52e-7, 1.5e-6},
+            // L < 0: the two terms mu0 (1 - L) and 2 L mu0 / (mu0 + mu) cancel (docs/photometry.md)
+            {"l=-1", 5.36e-5, 1.5e-4, 5.36e-5, 1.5e-4},
+        };
         out.push_back(m);
     }
     {
@@ -120,6 +131,8 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         m.pack = packer<McEwenConsts>(mcewen_consts);
         m.reciprocal = true;   // L depends on g only, which is symmetric in L and V
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.53e-5, 7e-5, 2.53e-5, 7e-5}};
         out.push_back(m);
     }
     {
@@ -138,6 +151,11 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            // R30 / r with r near 0 where McEwen's L(g) < 0
+            {"*", 2.35e-4, 7e-4, 2.35e-4, 7e-4},
+        };
         out.push_back(m);
     }
     {
@@ -157,6 +175,8 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
         m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 4.00e-6, 1.2e-5, 4.00e-6, 1.2e-5}};
         out.push_back(m);
     }
     {
@@ -174,6 +194,8 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.07e-5, 3e-5, 1.07e-5, 3e-5}};
         out.push_back(m);
     }
     {
@@ -203,8 +225,11 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         });
         m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.85e-6, 6e-6, 1.85e-6, 6e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -38,11 +38,16 @@ WrapConsts wrap_consts(const std::vector<double>& p) {
 
 }  // namespace
 
-void register_wrap_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 20 in the catalogue.
+ModelFamily register_wrap_family() {
+    ModelFamily family{"wrap", 20, "Half-Lambert and wrap", "docs/models/wrap.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("half_lambert", "Valve's half-Lambert: albedo * ((NoL + 1) / 2)^2, NoL unclamped (0 at NoL = -1)",
                            kValveSource, "half_lambert_eval");
         m.energy_conserving = false;   // directional albedo 7/6 (hemisphere), 4/3 (sphere)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.50e-7, 8e-7, 2.50e-7, 8e-7}};
         out.push_back(m);
     }
     {
@@ -51,6 +56,8 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "seed 001 (its code clamps NoL before the mapping); Valve's form is half_lambert",
                            "half_lambert_seed001_eval");
         m.energy_conserving = false;   // 7/6 over the hemisphere, 5/3 over the sphere
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.50e-7, 8e-7, 2.50e-7, 8e-7}};
         out.push_back(m);
     }
     {
@@ -59,6 +66,8 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
         m.params = {wrap_value_param()};
         m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;   // hemisphere 2 (1 - (1 - a)^3) / (3 a): 7/6 at a = 0.5
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.42e-6, 4e-6, 1.42e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -68,6 +77,8 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
         m.params = {wrap_value_param()};
         m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.42e-6, 4e-6, 1.42e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -83,8 +94,11 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
             return k;
         });
         m.energy_conserving = true;   // sphere: exactly 1; hemisphere: (1 + 2w) / (1 + w)^2 <= 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.33e-7, 2e-6, 7.33e-7, 2e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab
