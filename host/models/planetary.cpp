@@ -1,5 +1,5 @@
 // The planetary family (kernels/models/planetary.cl, docs/photometry.md): ISIS3's photometric laws of airless
-// bodies. Parameter names are shadelab's lower-case forms of ISIS's keywords (Wh -> wh, Hg1 -> hg1, ...);
+// bodies (Lommel-Seeliger and Lunar-Lambert are their own family: host/models/lunar_lambert.cpp). Parameter names are shadelab's lower-case forms of ISIS's keywords (Wh -> wh, Hg1 -> hg1, ...);
 // host/photometry/isis_pvl.cpp maps ISIS's PVL files onto them. Ranges are ISIS's where ISIS bounds a value, and
 // stated bounds where it does not (a fit needs finite ones): docs/photometry.md lists both.
 #include <algorithm>
@@ -94,35 +94,6 @@ McEwenConsts mcewen_consts(const std::vector<double>& p) {
 ModelFamily register_planetary_family() {
     ModelFamily family{"planetary", 90, "planetary (ISIS3's photometric laws)", "docs/photometry.md", {}};
     std::vector<ModelInfo>& out = family.models;
-    {
-        ModelInfo m = base("lommel_seeliger", "Lommel-Seeliger, ISIS's normalisation: albedo * 2 NoL / (NoL + NoV)",
-                           "Seeliger (1888); ISIS3 LommelSeeliger photometric model", "lommel_seeliger_eval");
-        m.reciprocal = true;   // f_r = 2 albedo / (pi (NoL + NoV))
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 5.15e-7, 1.5e-6, 5.15e-7, 1.5e-6}};
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("lunar_lambert", "Lunar-Lambert: albedo * NoL ((1 - L) + 2 L / (NoL + NoV))",
-                           "McEwen (1991) Icarus 92:298; ISIS3 LunarLambert photometric model", "lunar_lambert_eval");
-        m.params = {{"l", 1.0, -1.0, 2.0,
-                     "limb-darkening weight L (ISIS L): 0 Lambert, 1 Lommel-Seeliger; ISIS sets no bounds"}};
-        m.pack = packer<LunarLambertConsts>([](const std::vector<double>& p) {
-            LunarLambertConsts c{};
-            c.L = float(p[0]);
-            return c;
-        });
-        m.reciprocal = true;   // f_r = albedo/pi ((1 - L) + 2L / (NoL + NoV)): symmetric
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 5.52e-7, 1.5e-6, 5.52e-7, 1.5e-6},
-            // L < 0: the two terms mu0 (1 - L) and 2 L mu0 / (mu0 + mu) cancel (docs/photometry.md)
-            {"l=-1", 5.36e-5, 1.5e-4, 5.36e-5, 1.5e-4},
-        };
-        out.push_back(m);
-    }
     {
         ModelInfo m = base("lunar_lambert_mcewen",
                            "Lunar-Lambert with McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3 (g in degrees)",

@@ -18,7 +18,6 @@ constexpr double kDeg = kPi / 180.0;
 
 
 // ---- laws ---------------------------------------------------------------------------------------------
-double Pho_LommelSeeliger(double mu0, double mu) { return 2.0 * mu0 / (mu0 + mu); }
 double Pho_LunarLambert(double mu0, double mu, double L) { return mu0 * ((1.0 - L) + 2.0 * L / (mu0 + mu)); }
 double Pho_McEwen_L(double g, double m1, double m2, double m3) { return 1.0 + m1 * g + m2 * g * g + m3 * g * g * g; }
 
@@ -191,8 +190,6 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
 namespace {
 // The planetary family's laws at photometric angles (mu0, mu > 0: planetary_value checks).
 double planetary_law(const Material& m, const PhotometricAngles& a) {
-    if (m.model == "lommel_seeliger") return Pho_LommelSeeliger(a.mu0, a.mu);
-    if (m.model == "lunar_lambert") return Pho_LunarLambert(a.mu0, a.mu, m.params.at("l"));
     if (m.model == "lunar_lambert_mcewen") return Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
     if (m.model == "lunar_lambert_mcewen_ratio") {
         // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-3 (kernel comment).
@@ -209,8 +206,7 @@ double planetary_law(const Material& m, const PhotometricAngles& a) {
 }  // namespace
 
 void add_planetary_references(Table& t) {
-    for (const char* name : {"lommel_seeliger", "lunar_lambert", "lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio",
-                             "hapke_hen", "hapke_leg", "hapke_2012"}) {
+    for (const char* name : {"lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio", "hapke_hen", "hapke_leg", "hapke_2012"}) {
         t.angles[name] = planetary_law;
         t[name] = [](const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&, const Material& m) {
             return m.albedo * planetary_value(m, angles_from_vectors(N, L, V));

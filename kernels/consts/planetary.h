@@ -1,18 +1,10 @@
 // Constants of the planetary family (kernels/models/planetary.cl), ISIS3's photometric laws, packed once per
-// material by host/models/planetary.cpp (in double, stored as float). lommel_seeliger has none.
+// material by host/models/planetary.cpp (in double, stored as float).
 #ifndef SHADELAB_CONSTS_PLANETARY_H
 #define SHADELAB_CONSTS_PLANETARY_H
 #include "consts/model_consts.h"
 
 SL_SHARED_BEGIN
-
-// lunar_lambert: mu0 ((1 - L) + 2 L / (mu0 + mu)).
-typedef struct {
-    float L;  // limb-darkening weight (ISIS L)
-} LunarLambertConsts;
-SL_SIZE_IS(LunarLambertConsts, 1)
-SL_FIELD_AT(LunarLambertConsts, L, 0)
-SL_FITS_BLOCK(LunarLambertConsts)
 
 // lunar_lambert_mcewen(_ratio): McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3, g in degrees; the ratio form also
 // R30 = r(30, 30, 0) and the floor of r.

@@ -1,6 +1,6 @@
 // Planetary photometry: the disc-resolved laws of airless bodies as USGS ISIS3 defines them (its photometric
-// models Lommel-Seeliger, Lunar-Lambert, McEwen's Lunar-Lambert, Hapke with Henyey-Greenstein or Legendre
-// phase functions), written from the papers. docs/photometry.md has the formulas, the parameters in ISIS's
+// models McEwen's Lunar-Lambert, Hapke with Henyey-Greenstein or Legendre phase functions; Lommel-Seeliger and
+// Lunar-Lambert are their own family, kernels/models/lunar_lambert.cl, on this file's terms), written from the papers. docs/photometry.md has the formulas, the parameters in ISIS's
 // names and shadelab's, the measured kernel-vs-reference errors and every difference from ISIS.
 //
 // Value convention (docs/notation.md): value = pi f_r NoL, a white Lambert surface lit head-on gives 1. That is
@@ -286,17 +286,8 @@ SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K
 }
 
 // ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
-
-// lommel_seeliger: 2 mu0 / (mu0 + mu). No parameters.
-SL_INLINE float lommel_seeliger_pho(sl_pho g, __constant const ModelConsts* mc) {
-    (void)mc;
-    return Pho_visible(g) ? Pho_LommelSeeliger(g.mu0, g.mu) : 0.0f;
-}
-
-// lunar_lambert: mu0 ((1 - L) + 2 L / (mu0 + mu)). LunarLambertConsts: L.
-SL_INLINE float lunar_lambert_pho(sl_pho g, __constant const ModelConsts* mc) {
-    return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, SL_CONSTS(LunarLambertConsts, mc)->L) : 0.0f;
-}
+// (lommel_seeliger and lunar_lambert, which use this file's geometry and terms, are their own family:
+// kernels/models/lunar_lambert.cl.)
 
 // lunar_lambert_mcewen: Lunar-Lambert with McEwen's L(g). McEwenConsts: m1, m2, m3.
 SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts* mc) {
@@ -357,8 +348,6 @@ SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
         (void)P;                                                                                              \
         return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), mc));                                \
     }
-PHO_CATALOGUE_EVAL(lommel_seeliger)
-PHO_CATALOGUE_EVAL(lunar_lambert)
 PHO_CATALOGUE_EVAL(lunar_lambert_mcewen)
 PHO_CATALOGUE_EVAL(lunar_lambert_mcewen_ratio)
 PHO_CATALOGUE_EVAL(hapke_hen)
