@@ -32,22 +32,13 @@ Material default_material(const ModelInfo& info, double albedo = 1.0) {
     return resolve_material(m);
 }
 
-// (1/pi) * integral over the upper hemisphere of value(L, V) dL: the directional albedo under the
-// value convention (value = pi f_r NoL). Midpoint rule in (cos theta, phi).
+// The directional albedo from the reference: the white furnace of tests/support.hpp on its (cos theta, phi) grid,
+// steps x 2 steps midpoints over the whole hemisphere.
 double directional_albedo(const Material& m, const glm::dvec3& V, int steps) {
-    const glm::dvec3 N{0, 0, 1}, P{0, 0, 0};
-    double sum = 0.0;
-    for (int i = 0; i < steps; ++i) {
-        const double ct = (i + 0.5) / steps;
-        const double st = std::sqrt(1.0 - ct * ct);
-        for (int j = 0; j < 2 * steps; ++j) {
-            const double phi = M_PI * (j + 0.5) / steps;
-            const glm::dvec3 L{st * std::cos(phi), st * std::sin(phi), ct};
-            sum += ref::eval_material(N, L, V, P, m).y;
-        }
-    }
-    const double d_omega = (1.0 / steps) * (M_PI / steps);
-    return sum * d_omega / M_PI;
+    test::Furnace f;
+    f.n_theta = steps;
+    f.n_phi = 2 * steps;
+    return test::furnace_reference(m, V, f);
 }
 }  // namespace
 
