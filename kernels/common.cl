@@ -1,4 +1,4 @@
-// shadelab kernels: notation, the model constant block and light layout shared by every model.
+// shadelab kernels: notation and the helpers shared by every model.
 //
 // Notation (docs/notation.md): all vectors are world-space and unit length.
 //   N  surface normal          L  direction from the surface to the light
@@ -18,24 +18,14 @@
 #define SL_PI 3.14159265358979323846f
 #define SL_INV_PI 0.31830988618379067154f
 
-// Must match kModelConstCount in host/models/catalogue.hpp.
-#define SL_MAX_CONSTS 24
+// The constant block of every model (ModelConsts: albedo, specular and the model's own struct in `block`) and
+// the light and view structs: declared once, for the kernels and the host alike, in consts/ (the host checks
+// their layout at compile time, tests/test_layout.cpp on the device).
+#include "consts/model_consts.h"
+#include "consts/scene.h"
 
-// Per-model constants, filled once on the host from the user's parameters (derived constants such as
-// Oren-Nayar's A and B are computed there, not per fragment). Gradient uses an array of three:
-// [0] itself, [1] model A, [2] model B.
-typedef struct {
-    float albedo[4];     // diffuse colour (rgb, linear)
-    float specular[4];   // specular colour (rgb, linear)
-    float c[SL_MAX_CONSTS];
-} ModelConsts;
-
-// One light. Must match struct LightGPU in host/shade/shader.cpp.
-typedef struct {
-    float4 pos_or_dir;   // directional: unit direction TO the light; point: world position
-    float4 radiance;     // rgb = colour * intensity
-    float4 params;       // x: type (0 directional, 1 point); y: range (0 = unbounded)
-} Light;
+// A model's own constants as its named struct (consts/<family>.h), e.g. SL_CONSTS(OrenNayarConsts, mc)->A.
+#define SL_CONSTS(T, mc) ((__constant const T*)(mc)->block)
 
 SL_INLINE float sl_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
 

@@ -36,11 +36,10 @@ SL_INLINE float sl_finite_or_zero(float v) {
 // light's radiance and sets *L to the unit direction to it. Directional lights are unattenuated (factor 1);
 // point lights fall off with the inverse square of distance, optionally windowed to zero at `range` with
 // (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
-SL_INLINE float light_incident_v3(__constant const Light* li, sl_v3 P, sl_v3* L) {
-    __constant const float* f = (__constant const float*)li;   // pos_or_dir[0..3], radiance[4..7], params[8..11]
-    const sl_v3 pos = sl_v3_make(f[0], f[1], f[2]);
-    const float range = f[9];   // read before the branch: a load under it would not be hoisted (a gather)
-    if (SL_ALL_DIRECTIONAL || f[8] == 0.0f) {
+SL_INLINE float light_incident_v3(__constant const DeviceLight* li, sl_v3 P, sl_v3* L) {
+    const sl_v3 pos = sl_v3_make(li->pos_or_dir[0], li->pos_or_dir[1], li->pos_or_dir[2]);
+    const float range = li->range;   // read before the branch: a load under it would not be hoisted (a gather)
+    if (SL_ALL_DIRECTIONAL || li->type == 0.0f) {
         *L = pos;
         return 1.0f;
     }
@@ -56,20 +55,19 @@ SL_INLINE float light_incident_v3(__constant const Light* li, sl_v3 P, sl_v3* L)
     return window / d2;
 }
 
-// The unit vector to the viewer at P: view.w == 1: view.xyz is the camera position (perspective);
-// view.w == 0: view.xyz is the unit direction to the viewer, the same for every fragment (orthographic,
-// used for the moon disc).
-SL_INLINE sl_v3 view_dir_v3(float4 view, sl_v3 P) {
-    const sl_v3 eye = sl_v3_make(view.x, view.y, view.z);
-    return view.w != 0.0f ? sl_normalize(sl_sub(eye, P)) : eye;
+// The unit vector to the viewer at P: perspective: view.pos_or_dir is the camera position; orthographic: it is
+// the unit direction to the viewer, the same for every fragment (used for the moon disc).
+SL_INLINE sl_v3 view_dir_v3(DeviceView view, sl_v3 P) {
+    const sl_v3 eye = sl_v3_make(view.pos_or_dir[0], view.pos_or_dir[1], view.pos_or_dir[2]);
+    return view.perspective != 0.0f ? sl_normalize(sl_sub(eye, P)) : eye;
 }
 
 // One fragment: sum over lights of incident * model, plus ambient * albedo.
 __kernel void shade_fragments(__global const float* restrict px, __global const float* restrict py,
                               __global const float* restrict pz, __global const float* restrict nx,
                               __global const float* restrict ny, __global const float* restrict nz,
-                              __global float* restrict out, const uint stride, const float4 view,
-                              __constant const ModelConsts* mc, __constant const Light* lights,
+                              __global float* restrict out, const uint stride, const DeviceView view,
+                              __constant const ModelConsts* mc, __constant const DeviceLight* lights,
                               const float4 ambient) {
     // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
     // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
@@ -89,7 +87,7 @@ __kernel void shade_fragments(__global const float* restrict px, __global const 
         // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
         L.x = sl_after(L.x, r);
         const sl_rgb v = SL_EVAL(N, L, V, P, mc);
-        __constant const float* rad = (__constant const float*)&lights[l] + 4;
+        __constant const float* rad = lights[l].radiance;
         r += (rad[0] * e) * v.r;
         g += (rad[1] * e) * v.g;
         b += (rad[2] * e) * v.b;

@@ -1,6 +1,7 @@
 // What the test files share: the one OpenCL runtime of the test process, the standard direction sweep,
-// the bundled data folders, resolved materials, scratch folders, and the slope of a model under small turns
-// of its directions (the rounding part of the kernel-vs-reference bounds).
+// the bundled data folders, resolved materials, scratch folders, the slope of a model under small turns
+// of its directions (the rounding part of the kernel-vs-reference bounds), the kernel-vs-reference sweep and the
+// white furnace (directional albedo) every family's tests use.
 #pragma once
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <map>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -151,5 +153,99 @@ ConditionedStats conditioned_sweep(const Material& m, ConditionedStats e, Bound&
 inline double slope(const glm::dvec3& N, const glm::dvec3& L, const glm::dvec3& V, const Material& m, int c) {
     return slope(N, L, V, m, c, ref::eval_material(N, L, V, {}, m)[c]);
 }
+
+// ---- the white furnace ---------------------------------------------------------------------------------------
+// Directional albedo under the value convention (value = pi f_r NoL): (1/pi) * integral over the upper hemisphere
+// of value(L, V) dL for a fixed view V (N = +z), by a midpoint rule on one of three grids, from the reference or
+// from the kernel. The grid is the family's choice: what resolves its lobe and its kinks.
+//   cos_theta          midpoints in (cos theta, phi): uniform in solid angle (smooth diffuse models)
+//   cos_theta_squared  cos theta = t^2 at midpoints in t: denser at grazing (mu^k with small k, Minnaert)
+//   half_vector        midpoints in (theta_h, phi_h) of the half vector, L = 2 (V.H) H - V, weight 4 VoH: resolves
+//                      narrow specular lobes (Cook-Torrance); nodes with V.H <= 0 or L below the horizon dropped
+// phi runs over (0, phi_max): phi_max = pi integrates half the hemisphere and doubles it, for models that depend
+// on the azimuth only through cos(phi_i - phi_r) with V in the xz plane. over_view integrates over V with L fixed
+// instead: (1/pi) * integral of f_r NoV dV = integral of value NoV / (pi NoL) dV.
+struct Furnace {
+    enum class Grid { cos_theta, cos_theta_squared, half_vector };
+    Grid grid = Grid::cos_theta;
+    int n_theta = 256, n_phi = 512;
+    double phi_max = 2.0 * M_PI;
+    bool over_view = false;
+
+    struct Node {
+        glm::dvec3 W;   // the integrated direction (L, or V when over_view)
+        double weight;  // quadrature weight times 1/pi (and the mirror's 2)
+    };
+    // The nodes for the fixed direction F (V, or L when over_view), unit, in the upper hemisphere.
+    std::vector<Node> nodes(const glm::dvec3& F) const {
+        std::vector<Node> out;
+        const double mirror = 2.0 * M_PI / phi_max, d_phi = phi_max / n_phi;
+        for (int i = 0; i < n_theta; ++i)
+            for (int j = 0; j < n_phi; ++j) {
+                const double phi = phi_max * (j + 0.5) / n_phi;
+                if (grid == Grid::half_vector) {
+                    const double th = (i + 0.5) / n_theta * (M_PI / 2), st = std::sin(th);
+                    const glm::dvec3 H{st * std::cos(phi), st * std::sin(phi), std::cos(th)};
+                    const double VoH = glm::dot(F, H);
+                    const glm::dvec3 L = 2.0 * VoH * H - F;
+                    if (VoH <= 0.0 || L.z <= 0.0) continue;
+                    out.push_back({L, 4.0 * VoH * st * (M_PI / 2 / n_theta) * d_phi * mirror / M_PI});
+                    continue;
+                }
+                const double t = (i + 0.5) / n_theta;
+                const double mu = grid == Grid::cos_theta ? t : t * t;
+                const double jac = grid == Grid::cos_theta ? 1.0 : 2.0 * t;   // d mu / dt
+                const double s = std::sqrt(1.0 - mu * mu);
+                double w = jac * (1.0 / n_theta) * d_phi * mirror / M_PI;
+                if (over_view) w *= mu / F.z;   // value NoV / NoL
+                out.push_back({{s * std::cos(phi), s * std::sin(phi), mu}, w});
+            }
+        return out;
+    }
+};
+
+// The directional albedo of `m` seen from (or, over_view, lit from) each of `fixed` (unit, z > 0), channel c,
+// from the double reference.
+inline double furnace_reference(const Material& m, const glm::dvec3& fixed, const Furnace& f, int c = 1) {
+    const glm::dvec3 N{0, 0, 1};
+    double sum = 0.0;
+    for (const Furnace::Node& n : f.nodes(fixed)) {
+        const glm::dvec3 L = f.over_view ? fixed : n.W, V = f.over_view ? n.W : fixed;
+        sum += n.weight * ref::eval_material(N, L, V, {}, m)[c];
+    }
+    return sum;
+}
+
+// The same from the kernel, one launch for every fixed direction.
+inline std::vector<double> furnace_kernel(const Material& m, const std::vector<glm::dvec3>& fixed, const Furnace& f,
+                                          int c = 1) {
+    std::vector<float> N, L, V, P;
+    std::vector<std::vector<Furnace::Node>> all;
+    for (const glm::dvec3& F : fixed) {
+        all.push_back(f.nodes(F));
+        for (const Furnace::Node& n : all.back()) {
+            const glm::dvec3 l = f.over_view ? F : n.W, v = f.over_view ? n.W : F;
+            for (int k = 0; k < 3; ++k) {
+                N.push_back(k == 2 ? 1.0f : 0.0f);
+                L.push_back(float(l[k]));
+                V.push_back(float(v[k]));
+                P.push_back(0.0f);
+            }
+        }
+    }
+    Shader shader(runtime());
+    const std::vector<float> out = shader.eval_directions(m, N, L, V, P);
+    std::vector<double> res;
+    std::size_t idx = 0;
+    for (const auto& nodes : all) {
+        double sum = 0.0;
+        for (const Furnace::Node& n : nodes) sum += n.weight * out[3 * idx++ + std::size_t(c)];
+        res.push_back(sum);
+    }
+    return res;
+}
+
+// A view (or light) direction at `deg` degrees from N = +z, in the xz plane.
+inline glm::dvec3 at_angle(double deg) { return {std::sin(deg * M_PI / 180.0), 0.0, std::cos(deg * M_PI / 180.0)}; }
 
 }  // namespace shadelab::test

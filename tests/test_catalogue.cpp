@@ -3,8 +3,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <regex>
+#include <set>
 
 #include "cl/runtime.hpp"
 #include "models/catalogue.hpp"
@@ -28,22 +32,13 @@ Material default_material(const ModelInfo& info, double albedo = 1.0) {
     return resolve_material(m);
 }
 
-// (1/pi) * integral over the upper hemisphere of value(L, V) dL: the directional albedo under the
-// value convention (value = pi f_r NoL). Midpoint rule in (cos theta, phi).
+// The directional albedo from the reference: the white furnace of tests/support.hpp on its (cos theta, phi) grid,
+// steps x 2 steps midpoints over the whole hemisphere.
 double directional_albedo(const Material& m, const glm::dvec3& V, int steps) {
-    const glm::dvec3 N{0, 0, 1}, P{0, 0, 0};
-    double sum = 0.0;
-    for (int i = 0; i < steps; ++i) {
-        const double ct = (i + 0.5) / steps;
-        const double st = std::sqrt(1.0 - ct * ct);
-        for (int j = 0; j < 2 * steps; ++j) {
-            const double phi = M_PI * (j + 0.5) / steps;
-            const glm::dvec3 L{st * std::cos(phi), st * std::sin(phi), ct};
-            sum += ref::eval_material(N, L, V, P, m).y;
-        }
-    }
-    const double d_omega = (1.0 / steps) * (M_PI / steps);
-    return sum * d_omega / M_PI;
+    test::Furnace f;
+    f.n_theta = steps;
+    f.n_phi = 2 * steps;
+    return test::furnace_reference(m, V, f);
 }
 }  // namespace
 
@@ -193,4 +188,49 @@ TEST_CASE("models flagged energy-conserving have directional albedo <= 1 (white 
                 }
         std::cout << (info.energy_conserving ? "  (flagged energy-conserving)\n" : "\n");
     }
+}
+
+// docs/models/README.md's table of families against the registrations (ModelFamily: title, doc, models): every
+// family has its row, naming exactly its models in catalogue order and linking its page; no row names a model
+// the catalogue does not have. The index is written by hand and kept true by this test.
+TEST_CASE("the docs index lists every registered family with its models and its page", "[catalogue][docs]") {
+    namespace fs = std::filesystem;
+    const fs::path index = fs::path(SHADELAB_SOURCE_DIR) / "docs" / "models" / "README.md";
+    std::ifstream in(index);
+    REQUIRE(in);
+    struct Row { std::vector<std::string> models; std::string page; };
+    std::map<std::string, Row> rows;   // by title
+    const std::regex row_re(R"(^\| ([^|]+?) \| ([^|]+?) \| ([^|]+?) \|$)"), name_re("`([a-z0-9_]+)`"),
+        link_re(R"(\]\(([^)]+)\))");
+    for (std::string line; std::getline(in, line);) {
+        std::smatch m;
+        if (!std::regex_match(line, m, row_re) || m[1] == "family" || m[1].str().find("---") == 0) continue;
+        Row r;
+        const std::string cell = m[2];
+        for (auto it = std::sregex_iterator(cell.begin(), cell.end(), name_re); it != std::sregex_iterator(); ++it)
+            r.models.push_back((*it)[1]);
+        std::smatch link;
+        const std::string page = m[3];
+        r.page = std::regex_search(page, link, link_re) ? link[1].str() : page;
+        rows[m[1]] = r;
+    }
+    std::set<std::string> listed;
+    for (const ModelFamily& f : model_families()) {
+        INFO("family " << f.name << " (title '" << f.title << "', page " << f.doc << ")");
+        REQUIRE(rows.count(f.title) == 1);
+        const Row& r = rows.at(f.title);
+        std::vector<std::string> names;
+        for (const auto& m : f.models) names.push_back(m.name);
+        CHECK(r.models == names);
+        CHECK(fs::exists(fs::path(SHADELAB_SOURCE_DIR) / f.doc));
+        // The page as linked from docs/models/: the index itself says "this page" for its own section.
+        const std::string rel = fs::path(f.doc).lexically_relative("docs/models").generic_string();
+        if (rel == "README.md") CHECK(r.page.find("this page") != std::string::npos);
+        else CHECK(r.page == rel);
+    }
+    for (const auto& [title, r] : rows)
+        for (const auto& name : r.models) {
+            INFO("row '" << title << "' names '" << name << "'");
+            CHECK_NOTHROW(find_model(name));
+        }
 }

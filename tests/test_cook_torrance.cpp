@@ -323,29 +323,12 @@ TEST_CASE("cook-torrance is reciprocal: kernel and reference", "[cook_torrance][
 // today's 4 NoL NoV denominator the albedo is <= 1; the 1982 pi NoL NoV makes it up to 4/pi = 1.27 times that.
 TEST_CASE("cook-torrance white furnace: directional albedo of the specular lobe against roughness and view",
           "[cook_torrance][physics]") {
-    const int nt = 1500, np = 256;
-    const dvec3 N{0, 0, 1};
-    auto albedo = [&](const Material& mat, double view_deg, const std::vector<float>* kernel_values) {
-        const double t = glm::radians(view_deg);
-        const dvec3 V{std::sin(t), 0, std::cos(t)};
-        const auto& fn = ref::reference_for(mat.model);
-        double sum = 0.0;
-        std::size_t idx = 0;
-        for (int i = 0; i < nt; ++i) {
-            const double th = (i + 0.5) / nt * (M_PI / 2), st = std::sin(th), cth = std::cos(th);
-            for (int j = 0; j < np; ++j, ++idx) {
-                const double ph = 2 * M_PI * (j + 0.5) / np;
-                const dvec3 H{st * std::cos(ph), st * std::sin(ph), cth};
-                const double VoH = glm::dot(V, H);
-                if (VoH <= 0.0) continue;
-                const dvec3 L = 2.0 * VoH * H - V;
-                if (L.z <= 0.0) continue;
-                const double v = kernel_values ? double((*kernel_values)[3 * idx]) : fn(N, L, V, {}, mat).x;
-                sum += v * 4.0 * VoH * st;
-            }
-        }
-        return sum * (M_PI / 2 / nt) * (2 * M_PI / np) / M_PI;
-    };
+    // The furnace of tests/support.hpp on its half-vector grid, 1500 x 256, red channel (specular colour 1).
+    test::Furnace f;
+    f.grid = test::Furnace::Grid::half_vector;
+    f.n_theta = 1500;
+    f.n_phi = 256;
+    auto albedo = [&](const Material& mat, double view_deg) { return test::furnace_reference(mat, test::at_angle(view_deg), f, 0); };
     const double views[] = {0.0, 45.0, 70.0, 80.0, 89.0};
     std::cout << "white furnace, specular lobe (F = 1, kd = 0): directional albedo with the 1982 pi NoL NoV at view "
                  "0/45/70/80/89 deg; [x pi/4 = today's 4 NoL NoV]\n";
@@ -357,7 +340,7 @@ TEST_CASE("cook-torrance white furnace: directional albedo of the specular lobe 
                       << std::setprecision(4);
             std::vector<double> a;
             for (double deg : views) {
-                a.push_back(albedo(mat, deg, nullptr));
+                a.push_back(albedo(mat, deg));
                 std::cout << std::setw(8) << a.back();
             }
             std::cout << "   [";
@@ -376,17 +359,7 @@ TEST_CASE("cook-torrance white furnace: directional albedo of the specular lobe 
     // The same integral over the kernel's values, for one lobe: the furnace is a property of the kernel too.
     {
         const Material mat = ct("cook_torrance", 0.3, 1.0, 0.0, 1.0, {1, 1, 1});
-        const dvec3 V{std::sin(glm::radians(45.0)), 0, std::cos(glm::radians(45.0))};
-        Triples t;
-        for (int i = 0; i < nt; ++i)
-            for (int j = 0; j < np; ++j) {
-                const double th = (i + 0.5) / nt * (M_PI / 2), ph = 2 * M_PI * (j + 0.5) / np;
-                const dvec3 H{std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)};
-                t.add(N, 2.0 * glm::dot(V, H) * H - V, V);
-            }
-        Shader shader(test::runtime());
-        const auto o = shader.eval_directions(mat, t.N, t.L, t.V, t.P);
-        const double ak = albedo(mat, 45.0, &o), ar = albedo(mat, 45.0, nullptr);
+        const double ak = test::furnace_kernel(mat, {test::at_angle(45.0)}, f, 0)[0], ar = albedo(mat, 45.0);
         std::cout << "  furnace m 0.3, view 45 deg: kernel " << ak << ", reference " << ar << "\n";
         CHECK(ak == Approx(ar).epsilon(1e-5));
     }

@@ -104,41 +104,20 @@ void reference_interval(const ref::ModelFn& f, const Material& m, const dvec3& N
 }
 
 // (1/pi) * integral over the upper hemisphere of value(L, V) dL (white furnace: directional albedo seen from
-// V), from the KERNEL. mu = t^2 (t midpoints, smooth at grazing for mu^k with small k), 8 azimuths (the
-// family does not depend on azimuth; they only exercise real vectors). Returns one value per view angle.
+// V), from the KERNEL, for albedo 1 (the green channel over the albedo): the furnace of tests/support.hpp with
+// mu = t^2 (t midpoints, smooth at grazing for mu^k with small k) and 8 azimuths (the family does not depend on
+// azimuth; they only exercise real vectors). Returns one value per view angle. fix_light_instead: the light at
+// those angles and the integral over the view hemisphere (of f_r NoV).
 std::vector<double> furnace(const Material& m, const std::vector<double>& view_deg, bool fix_light_instead = false) {
-    const int nt = 2000, nphi = 8;
-    std::vector<dvec3> N, L, V;
-    for (double deg : view_deg) {
-        const double th = deg * M_PI / 180.0;
-        const dvec3 fixed{std::sin(th), 0.0, std::cos(th)};
-        for (int i = 0; i < nt; ++i) {
-            const double t = (i + 0.5) / nt, mu = t * t, s = std::sqrt(1.0 - mu * mu);
-            for (int j = 0; j < nphi; ++j) {
-                const double phi = 2.0 * M_PI * (j + 0.5) / nphi;
-                const dvec3 w{s * std::cos(phi), s * std::sin(phi), mu};
-                N.push_back({0, 0, 1});
-                L.push_back(fix_light_instead ? fixed : w);
-                V.push_back(fix_light_instead ? w : fixed);
-            }
-        }
-    }
-    const auto out = eval_kernel(m, N, L, V);
-    std::vector<double> res;
-    std::size_t idx = 0;
-    for (std::size_t a = 0; a < view_deg.size(); ++a) {
-        double sum = 0.0;
-        for (int i = 0; i < nt; ++i) {
-            const double t = (i + 0.5) / nt, mu = t * t;
-            for (int j = 0; j < nphi; ++j, ++idx) {
-                double v = out[3 * idx + 1] / m.albedo.y;
-                // Fixed light: integrate f_r NoV = value * NoV / (pi NoL) over the view hemisphere instead.
-                if (fix_light_instead) v *= mu / std::cos(view_deg[a] * M_PI / 180.0);
-                sum += v * 2.0 * t;
-            }
-        }
-        res.push_back(sum * (1.0 / nt) * (2.0 / nphi));
-    }
+    test::Furnace f;
+    f.grid = test::Furnace::Grid::cos_theta_squared;
+    f.n_theta = 2000;
+    f.n_phi = 8;
+    f.over_view = fix_light_instead;
+    std::vector<dvec3> fixed;
+    for (double deg : view_deg) fixed.push_back(test::at_angle(deg));
+    std::vector<double> res = test::furnace_kernel(m, fixed, f);
+    for (double& a : res) a /= m.albedo.y;
     return res;
 }
 

@@ -150,47 +150,17 @@ const std::vector<Triple>& triples() {
     return r;
 }
 
-// Directions of a midpoint grid over the upper hemisphere in (cos theta, phi), phi in [0, pi] only: every
-// model of the family depends on the azimuth through cos(phi_i - phi_r) alone, so the half with
-// phi in [pi, 2 pi] mirrors it. N = +z, V in the xz-plane.
-struct Hemisphere {
-    std::vector<float> N, L, V, P;
-    std::size_t count = 0;
-    double weight = 0.0;   // (1/pi) * d(omega) * 2 (the mirrored half)
-};
-
-Hemisphere hemisphere_grid(const std::vector<double>& view_deg, int steps) {
-    Hemisphere h;
-    for (double deg : view_deg) {
-        const double tv = deg * kPi / 180.0;
-        const float vx = float(std::sin(tv)), vz = float(std::cos(tv));
-        for (int i = 0; i < steps; ++i) {
-            const double ct = (i + 0.5) / steps, st = std::sqrt(1.0 - ct * ct);
-            for (int j = 0; j < steps; ++j) {
-                const double phi = kPi * (j + 0.5) / steps;
-                const float l[3] = {float(st * std::cos(phi)), float(st * std::sin(phi)), float(ct)};
-                for (int c = 0; c < 3; ++c) h.L.push_back(l[c]);
-                h.N.insert(h.N.end(), {0.0f, 0.0f, 1.0f});
-                h.V.insert(h.V.end(), {vx, 0.0f, vz});
-                h.P.insert(h.P.end(), {0.0f, 0.0f, 0.0f});
-            }
-        }
-    }
-    h.count = std::size_t(steps) * std::size_t(steps);
-    h.weight = 2.0 * (1.0 / steps) * (kPi / steps) / kPi;
-    return h;
-}
-
-// Directional albedo (green channel, albedo 1) for each view angle of the grid, from the kernel.
-std::vector<double> directional_albedo(Shader& shader, const Material& m, const Hemisphere& h, std::size_t views) {
-    const auto out = shader.eval_directions(m, h.N, h.L, h.V, h.P);
-    std::vector<double> a(views, 0.0);
-    for (std::size_t v = 0; v < views; ++v) {
-        double sum = 0.0;
-        for (std::size_t i = 0; i < h.count; ++i) sum += out[3 * (v * h.count + i) + 1];
-        a[v] = sum * h.weight;
-    }
-    return a;
+// Directional albedo (green channel, albedo 1) for each view angle, from the kernel: the furnace of
+// tests/support.hpp on a steps x steps midpoint grid in (cos theta, phi) with phi in [0, pi] only: every model of
+// the family depends on the azimuth through cos(phi_i - phi_r) alone, so the half with phi in [pi, 2 pi] mirrors it.
+std::vector<double> directional_albedo(const Material& m, const std::vector<double>& view_deg, int steps) {
+    test::Furnace f;
+    f.n_theta = steps;
+    f.n_phi = steps;
+    f.phi_max = kPi;
+    std::vector<glm::dvec3> fixed;
+    for (double deg : view_deg) fixed.push_back(test::at_angle(deg));
+    return test::furnace_kernel(m, fixed, f);
 }
 
 }  // namespace
@@ -493,11 +463,9 @@ TEST_CASE("white furnace: directional albedo of every model against roughness - 
     // fit errs most) and 89.9 deg (the QON family's albedo peaks at grazing view).
     const std::vector<double> views = {0.0, 60.0, 82.3, 89.9};
     const int steps = 512;
-    const Hemisphere h = hemisphere_grid(views, steps);
-    Shader shader(test::runtime());
     Material lam;
     lam.albedo = glm::dvec3(1.0);
-    const auto lam_a = directional_albedo(shader, resolve_material(lam), h, views.size());
+    const auto lam_a = directional_albedo(resolve_material(lam), views, steps);
     double quad_err = 0.0;
     for (double a : lam_a) quad_err = std::max(quad_err, std::abs(a - 1.0));
     std::cout << "directional albedo, albedo 1, view angle 0/60/82.3/89.9 deg (kernel, " << steps << "^2 midpoint; "
@@ -514,7 +482,7 @@ TEST_CASE("white furnace: directional albedo of every model against roughness - 
         if (p.hi > kPi / 2 + 1e-9) grid.push_back(p.hi);
         double max_a = 0.0, max_dev = 0.0;
         for (double r : grid) {
-            const auto a = directional_albedo(shader, make(model, r, glm::dvec3(1.0)), h, views.size());
+            const auto a = directional_albedo(make(model, r, glm::dvec3(1.0)), views, steps);
             std::cout << "  " << std::setw(22) << model << " " << p.name << "=" << std::setw(7) << std::setprecision(4)
                       << r << std::setprecision(6);
             for (double x : a) std::cout << " " << std::setw(9) << x;

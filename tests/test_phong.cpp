@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cl/runtime.hpp"
+#include "consts/phong.h"
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
 #include "reference/reference.hpp"
@@ -383,14 +384,15 @@ TEST_CASE("reciprocity: R(L).V == R(V).L - only the f_r forms (normalised) are r
 TEST_CASE("normalised pack rejects nothing in range and the constants are computed on the host", "[phong][catalogue]") {
     for (const char* name : {"phong_normalized", "blinn_phong_normalized", "blinn_phong_normalized_approx"}) {
         for (double n : {0.0, 10000.0}) {
-            const auto k = pack_material(make(name, {{"n", n}, {"ks", 1.0}}));
-            INFO(name << " n " << n << " constants " << k[0].c[0] << " " << k[0].c[1] << " " << k[0].c[2]);
-            CHECK(std::isfinite(k[0].c[2]));
-            CHECK(k[0].c[1] == 0.0f);   // 1 - ks
-            CHECK(k[0].c[2] >= 1.0f);   // K_n >= 1: 1 at n = 0
+            const auto k = consts_of<PhongNormalizedConsts>(pack_material(make(name, {{"n", n}, {"ks", 1.0}}))[0]);
+            INFO(name << " n " << n << " constants " << k.n << " " << k.kd << " " << k.lobe_scale);
+            CHECK(std::isfinite(k.lobe_scale));
+            CHECK(k.kd == 0.0f);            // 1 - ks
+            CHECK(k.lobe_scale >= 1.0f);    // K_n >= 1: 1 at n = 0
         }
     }
-    CHECK(pack_material(make("blinn_phong_normalized", {{"n", 0.0}, {"ks", 1.0}}))[0].c[2] == 1.0f);
-    CHECK(pack_material(make("phong_seed001", {{"gloss", 128.0}}))[0].c[0] == 32.0f);
+    CHECK(consts_of<PhongNormalizedConsts>(pack_material(make("blinn_phong_normalized", {{"n", 0.0}, {"ks", 1.0}}))[0])
+              .lobe_scale == 1.0f);
+    CHECK(consts_of<PhongConsts>(pack_material(make("phong_seed001", {{"gloss", 128.0}}))[0]).n == 32.0f);
     CHECK_THROWS_AS(resolve_material([] { Material m; m.model = "phong"; m.params["n"] = 10001; return m; }()), Error);
 }

@@ -9,9 +9,10 @@
 // (3) the full shading path (lights, attenuation, view vector) in fast mode, the path the benchmark times
 // (tag [speed]; correctness only, no timing). Plus a check that the band-flip rule cannot hide errors.
 //
-// kBounds below is the source of truth for the bounds in docs/precision.md. Each bound was set at about
-// 2-4x the number measured under it (recorded next to it); the test prints the fresh measurement beside the
-// recorded one so drift shows. A model without a row fails with a message asking for one: measure first.
+// The rows each model registers (ModelInfo::precision, host/models/<family>.cpp) are the source of truth for the
+// bounds in docs/precision.md. Each bound was set at about 2-4x the number measured under it (recorded next to
+// it); the test prints the fresh measurement beside the recorded one so drift shows. A model without a row fails
+// with a message asking for one: measure first.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -35,92 +36,15 @@ using namespace shadelab;
 namespace {
 
 // ---------------------------------------------------------------------------------------------------------
-// The bounds. Relative error |k - r| / |r| over the well-conditioned values (criterion below), max over the
-// probes (defaults and range ends). probe "*" is the model's row; a named probe ("n=10000") overrides it for
-// that parameter set only, where the input rounding alone is amplified past the model's row (stated why in
-// docs/precision.md). measured_* are the values seen when the bound was set (50,000 triples, seed 4242).
-struct Bound {
-    const char* model;
-    const char* probe;
-    double measured_precise, precise;   // precise mode: measured max rel, asserted bound
-    double measured_fast, fast;         // fast mode: measured max rel, asserted bound
-};
-
-// clang-format off
-const Bound kBounds[] = {
-    // model                         probe             precise: seen, bound     fast: seen, bound
-    {"lambert",                      "*",              7.33e-7, 2e-6,           7.33e-7, 2e-6},
-    {"half_lambert",                 "*",              2.50e-7, 8e-7,           2.50e-7, 8e-7},
-    {"half_lambert_seed001",         "*",              2.50e-7, 8e-7,           2.50e-7, 8e-7},
-    {"wrap",                         "*",              1.42e-6, 4e-6,           1.42e-6, 4e-6},
-    {"wrap_seed001",                 "*",              1.42e-6, 4e-6,           1.42e-6, 4e-6},
-    {"wrap_energy",                  "*",              7.33e-7, 2e-6,           7.33e-7, 2e-6},
-    {"phong",                        "*",              9.53e-6, 3e-5,           9.53e-6, 3e-5},
-    {"phong",                        "n=10000",        2.19e-3, 6e-3,           2.19e-3, 6e-3},
-    {"phong_seed001",                "*",              9.53e-6, 3e-5,           9.53e-6, 3e-5},
-    {"phong_seed001",                "gloss=40000",    2.19e-3, 6e-3,           2.19e-3, 6e-3},
-    {"phong_normalized",             "*",              1.33e-5, 4e-5,           1.32e-5, 4e-5},
-    {"phong_normalized",             "n=10000",        3.10e-3, 9e-3,           3.10e-3, 9e-3},
-    {"blinn_phong",                  "*",              2.26e-5, 6e-5,           2.26e-5, 6e-5},
-    {"blinn_phong",                  "n=10000",        9.40e-4, 3e-3,           9.40e-4, 3e-3},
-    {"blinn_phong_seed001",          "*",              2.26e-5, 6e-5,           2.26e-5, 6e-5},
-    {"blinn_phong_seed001",          "gloss=40000",    1.09e-3, 3e-3,           1.09e-3, 3e-3},
-    {"blinn_phong_normalized",       "*",              2.38e-5, 7e-5,           2.38e-5, 7e-5},
-    {"blinn_phong_normalized",       "n=10000",        1.59e-3, 5e-3,           1.59e-3, 5e-3},
-    {"blinn_phong_normalized_approx", "*",             2.38e-5, 7e-5,           2.38e-5, 7e-5},
-    {"blinn_phong_normalized_approx", "n=10000",       1.59e-3, 5e-3,           1.59e-3, 5e-3},
-    {"banded",                       "*",              7.06e-8, 2e-7,           7.06e-8, 2e-7},
-    {"banded_seed001",               "*",              7.06e-8, 2e-7,           7.06e-8, 2e-7},
-    {"toon",                         "*",              4.66e-4, 1.5e-3,         4.66e-4, 1.5e-3},
-    {"toon",                         "diffuse_l3=0",   6.12e-3, 2e-2,           6.12e-3, 2e-2},
-    {"minnaert_1941",                "*",              1.33e-6, 4e-6,           1.33e-6, 4e-6},
-    {"minnaert_unity",               "*",              1.33e-6, 4e-6,           1.33e-6, 4e-6},
-    {"minnaert_blender",             "*",              7.33e-7, 2e-6,           7.86e-7, 2.5e-6},
-    {"minnaert_b",                   "*",              1.42e-6, 4e-6,           1.56e-6, 5e-6},
-    {"minnaert_normalized",          "*",              1.39e-6, 4e-6,           1.39e-6, 4e-6},
-    {"oren_nayar",                   "*",              7.44e-7, 2e-6,           7.44e-7, 2e-6},
-    {"oren_nayar_st",                "*",              7.44e-7, 2e-6,           7.44e-7, 2e-6},
-    {"oren_nayar_full",              "*",              7.74e-7, 2e-6,           7.74e-7, 2e-6},
-    {"oren_nayar_full",              "sigma=1.5708",   2.62e-5, 8e-5,           2.62e-5, 8e-5},
-    {"oren_nayar_seed001",           "*",              7.71e-7, 2e-6,           7.71e-7, 2e-6},
-    {"oren_nayar_seed003",           "*",              8.46e-7, 2.5e-6,         8.46e-7, 2.5e-6},
-    {"oren_nayar_seed004",           "*",              7.95e-7, 2.5e-6,         7.95e-7, 2.5e-6},
-    {"oren_nayar_blender",           "*",              9.92e-7, 3e-6,           9.92e-7, 3e-6},
-    {"oren_nayar_fujii",             "*",              2.42e-6, 7e-6,           2.42e-6, 7e-6},
-    {"oren_nayar_fujii_full",        "*",              7.71e-7, 2e-6,           7.71e-7, 2e-6},
-    {"eon",                          "*",              2.07e-6, 6e-6,           2.07e-6, 6e-6},
-    {"eon_approx",                   "*",              2.14e-6, 6e-6,           2.14e-6, 6e-6},
-    {"cook_torrance",                "*",              3.80e-6, 1e-5,           3.80e-6, 1e-5},
-    {"cook_torrance",                "m=0.02",         7.73e-4, 2e-3,           7.73e-4, 2e-3},
-    {"cook_torrance_ggx",            "*",              5.69e-6, 1.5e-5,         5.69e-6, 1.5e-5},
-    {"cook_torrance_ggx",            "m=0.02",         1.51e-3, 4e-3,           1.51e-3, 4e-3},
-    {"cook_torrance_exact_fresnel",  "*",              3.64e-6, 1e-5,           3.64e-6, 1e-5},
-    {"cook_torrance_exact_fresnel",  "m=0.02",         7.73e-4, 2e-3,           7.73e-4, 2e-3},
-    {"cook_torrance_seed004",        "*",              1.00e-5, 3e-5,           1.00e-5, 3e-5},
-    {"cook_torrance_seed004",        "m=0.02",         7.82e-4, 2e-3,           7.82e-4, 2e-3},
-    {"gradient",                     "*",              4.17e-6, 1.2e-5,         4.17e-6, 1.2e-5},
-    // fast was 3.05e-2 with PoCL's native_cos (argument reduction lost past 5e4 rad); own cos in both modes now
-    {"gradient",                     "period=0.0001",  2.00e-2, 6e-2,           2.00e-2, 6e-2},
-    {"lommel_seeliger",              "*",              5.15e-7, 1.5e-6,         5.15e-7, 1.5e-6},
-    {"lunar_lambert",                "*",              5.52e-7, 1.5e-6,         5.52e-7, 1.5e-6},
-    // L < 0: the two terms mu0 (1 - L) and 2 L mu0 / (mu0 + mu) cancel (docs/photometry.md)
-    {"lunar_lambert",                "l=-1",           5.36e-5, 1.5e-4,         5.36e-5, 1.5e-4},
-    {"lunar_lambert_mcewen",         "*",              2.53e-5, 7e-5,           2.53e-5, 7e-5},
-    // R30 / r with r near 0 where McEwen's L(g) < 0
-    {"lunar_lambert_mcewen_ratio",   "*",              2.35e-4, 7e-4,           2.35e-4, 7e-4},
-    {"hapke_hen",                    "*",              4.00e-6, 1.2e-5,         4.00e-6, 1.2e-5},
-    {"hapke_leg",                    "*",              1.07e-5, 3e-5,           1.07e-5, 3e-5},
-    {"hapke_2012",                   "*",              1.85e-6, 6e-6,           1.85e-6, 6e-6},
-};
-// clang-format on
-
-const Bound* find_bound(const std::string& model, const std::string& probe) {
-    const Bound* row = nullptr;
-    for (const Bound& b : kBounds)
-        if (model == b.model) {
-            if (probe == b.probe) return &b;
-            if (std::strcmp(b.probe, "*") == 0) row = &b;
-        }
+// The bounds are registered with each model (ModelInfo::precision, in host/models/<family>.cpp; PrecisionBound in
+// host/models/catalogue.hpp says what a row is): probe "*" is the model's row, a named probe ("n=10000")
+// overrides it for that parameter set only.
+const PrecisionBound* find_bound(const std::string& model, const std::string& probe) {
+    const PrecisionBound* row = nullptr;
+    for (const PrecisionBound& b : find_model(model).precision) {
+        if (probe == b.probe) return &b;
+        if (b.probe == "*") row = &b;
+    }
     return row;
 }
 
@@ -664,13 +588,13 @@ TEST_CASE("every model in precise and fast mode against the double reference wit
             const Precision p = mode ? Precision::Fast : Precision::Precise;
             prog[mode] = build_source(kRawKernel, build_options(Shader::defines_for(ps[0].m, 1, p), Shader::options_for(p)));
         }
-        const Bound* row = find_bound(info.name, "*");
+        const PrecisionBound* row = find_bound(info.name, "*");
         if (!row)   // still measured and printed below (against a placeholder bound of 1), so a row can be written
-            FAIL_CHECK("no row in kBounds for model '" << info.name << "': measure it (this test prints the table)"
-                                                        << " and add one, with the numbers to docs/precision.md");
+            FAIL_CHECK("model '" << info.name << "' registers no precision row (ModelInfo::precision, probe \"*\"): "
+                       << "measure it (this test prints the table) and add one, with the numbers to docs/precision.md");
         double row_max[2] = {0, 0};   // max over the probes the model's "*" row bounds
         for (const auto& probe : ps) {
-            const Bound* bound = find_bound(info.name, probe.label);
+            const PrecisionBound* bound = find_bound(info.name, probe.label);
             INFO("model " << info.name << ", " << probe.label);
             const double bounds[2] = {bound ? bound->precise : 1.0, bound ? bound->fast : 1.0};
 

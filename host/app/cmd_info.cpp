@@ -15,10 +15,8 @@ namespace shadelab::app {
 
 namespace {
 
-// The documentation page of a model: its family's page under docs/models/; Lambert is on the index page.
-std::string doc_page(const ModelInfo& m) {
-    return m.family == "lambert" ? "docs/models/README.md" : "docs/models/" + m.family + ".md";
-}
+// The documentation page of a model: its family's, as the family registered it.
+const std::string& doc_page(const ModelInfo& m) { return m.doc; }
 
 nlohmann::json model_json(const ModelInfo& m) {
     nlohmann::json params = nlohmann::json::array();

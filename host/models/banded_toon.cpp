@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "consts/banded_toon.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
@@ -22,7 +23,7 @@ ModelInfo base(const char* name, const char* summary, const char* source, const 
     return m;
 }
 
-// Toon parameters in declared order (the kernel's c[] layout is in banded_toon.cl, toon_eval).
+// Toon parameters in declared order (packed into ToonConsts, kernels/consts/banded_toon.h).
 enum ToonParam { kN, kWidth, kDt1, kDt2, kDt3, kDl0, kDl1, kDl2, kDl3, kSt1, kSt2, kSl0, kSl1, kSl2, kToonParams };
 
 void require_ascending(double a, double b, const char* na, const char* nb) {
@@ -33,18 +34,25 @@ void require_ascending(double a, double b, const char* na, const char* nb) {
 
 }  // namespace
 
-void register_banded_toon_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 40 in the catalogue.
+ModelFamily register_banded_toon_family() {
+    ModelFamily family{"banded_toon", 40, "banded and toon", "docs/models/banded_toon.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("banded", "banded Lambert: albedo * floor(max(0, NoL) steps + 1/2) / steps",
                            "seed 001 (banded lighting), with _LightSteps read as the band count its author meant",
                            "banded_eval");
         m.params = {{"steps", 4.0, 1.0, 256.0,
                      "number of lit bands: NoL is rounded to multiples of 1/steps (levels 0, 1/steps, ..., 1)", true}};
-        m.pack = [](const std::vector<double>& p, float* c) {
-            c[0] = float(p[0]);
-            c[1] = float(1.0 / p[0]);
-        };
+        m.pack = packer<BandedConsts>([](const std::vector<double>& p) {
+            BandedConsts k{};
+            k.steps = float(p[0]);
+            k.inv_steps = float(1.0 / p[0]);
+            return k;
+        });
         m.energy_conserving = true;   // 2 * integral of round(x s)/s over [0, 1] is exactly 1 for every s
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.06e-8, 2e-7, 7.06e-8, 2e-7}};
         out.push_back(m);
     }
     {
@@ -54,14 +62,18 @@ void register_banded_toon_family(std::vector<ModelInfo>& out) {
                            "banded_seed001_eval");
         m.params = {{"light_steps", 64.0, 1.0, 256.0,
                      "seed 001's _LightSteps: the band step in units of 1/256 (64 gives 4 lit bands)", true}};
-        m.pack = [](const std::vector<double>& p, float* c) {
-            c[0] = float(p[0]);
-            c[1] = float(p[0] / 2.0);     // the seed's lightBandsAdditive
-            c[2] = float(p[0] / 256.0);   // the seed's lightBandsMultiplier
-        };
+        m.pack = packer<BandedSeed001Consts>([](const std::vector<double>& p) {
+            BandedSeed001Consts k{};
+            k.t = float(p[0]);
+            k.half_t = float(p[0] / 2.0);     // the seed's lightBandsAdditive
+            k.t_256 = float(p[0] / 256.0);    // the seed's lightBandsMultiplier
+            return k;
+        });
         // Directional albedo 1 where t divides 256 and below 1 otherwise (min 0.89 at t = 171), computed
         // band by band for every t in tests/test_banded_toon.cpp, although single levels can exceed 1.
         m.energy_conserving = true;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.06e-8, 2e-7, 7.06e-8, 2e-7}};
         out.push_back(m);
     }
     {
@@ -88,28 +100,36 @@ void register_banded_toon_family(std::vector<ModelInfo>& out) {
         m.params[kSl0] = {"spec_l0", 0.0, 0.0, 1.0, "highlight level below spec_t1 (times specular colour)"};
         m.params[kSl1] = {"spec_l1", 0.5, 0.0, 1.0, "highlight level 1"};
         m.params[kSl2] = {"spec_l2", 1.0, 0.0, 1.0, "highlight level above spec_t2"};
-        m.pack = [](const std::vector<double>& p, float* c) {
+        m.pack = packer<ToonConsts>([](const std::vector<double>& p) {
             require_ascending(p[kDt1], p[kDt2], "diffuse_t1", "diffuse_t2");
             require_ascending(p[kDt2], p[kDt3], "diffuse_t2", "diffuse_t3");
             require_ascending(p[kSt1], p[kSt2], "spec_t1", "spec_t2");
-            c[0] = float(p[kN]);
-            c[1] = float(0.5 * p[kWidth]);
-            c[2] = float(p[kDt1]);
-            c[3] = float(p[kDt2]);
-            c[4] = float(p[kDt3]);
-            c[5] = float(p[kDl0]);
-            c[6] = float(p[kDl1] - p[kDl0]);
-            c[7] = float(p[kDl2] - p[kDl1]);
-            c[8] = float(p[kDl3] - p[kDl2]);
-            c[9] = float(p[kSt1]);
-            c[10] = float(p[kSt2]);
-            c[11] = float(p[kSl0]);
-            c[12] = float(p[kSl1] - p[kSl0]);
-            c[13] = float(p[kSl2] - p[kSl1]);
-        };
+            ToonConsts k{};
+            k.n = float(p[kN]);
+            k.half_width = float(0.5 * p[kWidth]);
+            k.t1 = float(p[kDt1]);
+            k.t2 = float(p[kDt2]);
+            k.t3 = float(p[kDt3]);
+            k.d0 = float(p[kDl0]);
+            k.dd1 = float(p[kDl1] - p[kDl0]);
+            k.dd2 = float(p[kDl2] - p[kDl1]);
+            k.dd3 = float(p[kDl3] - p[kDl2]);
+            k.u1 = float(p[kSt1]);
+            k.u2 = float(p[kSt2]);
+            k.s0 = float(p[kSl0]);
+            k.ds1 = float(p[kSl1] - p[kSl0]);
+            k.ds2 = float(p[kSl2] - p[kSl1]);
+            return k;
+        });
         m.energy_conserving = false;   // e.g. levels above NoL on most of the lit side, plus the highlight
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            {"*", 4.66e-4, 1.5e-3, 4.66e-4, 1.5e-3},
+            {"diffuse_l3=0", 6.12e-3, 2e-2, 6.12e-3, 2e-2},
+        };
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

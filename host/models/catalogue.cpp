@@ -1,5 +1,6 @@
 #include "models/catalogue.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -9,21 +10,37 @@
 
 namespace shadelab {
 
+// Every family's registration, from the list the build writes (cmake/model_families.cmake).
+#define SL_FAMILY(name) ModelFamily register_##name##_family();
+#include "model_families.inc"
+#undef SL_FAMILY
+
+const std::vector<ModelFamily>& model_families() {
+    static const std::vector<ModelFamily> all = [] {
+        std::vector<ModelFamily> v;
+#define SL_FAMILY(name) v.push_back(register_##name##_family());
+#include "model_families.inc"
+#undef SL_FAMILY
+        std::sort(v.begin(), v.end(), [](const ModelFamily& a, const ModelFamily& b) { return a.rank < b.rank; });
+        std::set<std::string> names;
+        std::set<int> ranks;
+        for (auto& f : v) {
+            if (!ranks.insert(f.rank).second) throw Error("internal: two model families have rank " + std::to_string(f.rank));
+            for (auto& m : f.models) {
+                if (!names.insert(m.name).second) throw Error("internal: model '" + m.name + "' registered twice");
+                m.family = f.name;
+                m.doc = f.doc;
+            }
+        }
+        return v;
+    }();
+    return all;
+}
+
 const std::vector<ModelInfo>& model_catalogue() {
     static const std::vector<ModelInfo> all = [] {
         std::vector<ModelInfo> v;
-        register_lambert_family(v);
-        register_wrap_family(v);
-        register_phong_family(v);
-        register_banded_toon_family(v);
-        register_minnaert_family(v);
-        register_oren_nayar_family(v);
-        register_cook_torrance_family(v);
-        register_gradient_family(v);
-        register_planetary_family(v);
-        std::set<std::string> seen;
-        for (const auto& m : v)
-            if (!seen.insert(m.name).second) throw Error("internal: model '" + m.name + "' registered twice");
+        for (const auto& f : model_families()) v.insert(v.end(), f.models.begin(), f.models.end());
         return v;
     }();
     return all;
@@ -123,7 +140,7 @@ std::vector<ModelConsts> pack_material(const Material& m) {
             k.albedo[c] = float(mat.albedo[c]);
             k.specular[c] = float(mat.specular[c]);
         }
-        if (info.pack) info.pack(ordered_params(info, mat), k.c);
+        if (info.pack) info.pack(ordered_params(info, mat), k.block);
         return k;
     };
     std::vector<ModelConsts> out{pack_one(m)};

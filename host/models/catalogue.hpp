@@ -1,25 +1,49 @@
-// The model catalogue: every lighting model shadelab knows, with its parameters (ranges, defaults),
-// its kernel (file + eval function) and the host code that turns parameters into the kernel's constants.
-// The double-precision references live apart, in host/reference/, and share no code with this.
+// The model catalogue: every lighting model shadelab knows, with its parameters (ranges, defaults), flags,
+// precision bounds, documentation page, its kernel (file + eval function) and the host code that turns
+// parameters into the kernel's constants. Each family registers all of that in one place, its
+// host/models/<family>.cpp (register_<family>_family, found by the build: cmake/model_families.cmake), and
+// everything else derives from it: this catalogue, the references' dispatch (host/reference/<family>_ref.cpp,
+// add_<family>_references), the precision test's rows, the docs index test and `shadelab models`.
+// docs/adding-a-model.md walks through adding one. The double-precision references share no code with this.
 #pragma once
 #include <array>
+#include <cstring>
 #include <functional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
+#include "consts/model_consts.h"   // ModelConsts, shared with the kernels (kernels/consts/)
 #include "models/material.hpp"
 
 namespace shadelab {
 
-constexpr int kModelConstCount = 24;   // must match SL_MAX_CONSTS in kernels/common.cl
+constexpr int kModelConstCount = SL_MAX_CONSTS;   // floats in ModelConsts.block
 
-// Host mirror of ModelConsts in kernels/common.cl (plain floats: identical layout on both sides).
-struct ModelConsts {
-    float albedo[4];
-    float specular[4];
-    float c[kModelConstCount];
-};
-static_assert(sizeof(ModelConsts) == 4 * (8 + kModelConstCount), "ModelConsts layout");
+// Parameter-only constants, computed once per material: params in the model's `params` order, resolved; writes
+// the model's struct (kernels/consts/<family>.h) into ModelConsts.block.
+using PackFn = std::function<void(const std::vector<double>& params, float* block)>;
+
+// A PackFn from a function that returns the model's constant struct T (e.g. OrenNayarConsts), so that a family
+// fills named fields and never an offset.
+template <class T, class F>
+PackFn packer(F make) {
+    static_assert(std::is_trivially_copyable_v<T>, "a model's constants are plain floats");
+    static_assert(sizeof(T) <= sizeof(ModelConsts::block), "a model's constants must fit ModelConsts.block");
+    return [make](const std::vector<double>& params, float* block) {
+        const T k = make(params);
+        std::memcpy(block, &k, sizeof k);
+    };
+}
+
+// The model's struct T as packed into `k` (what a kernel reads through SL_CONSTS).
+template <class T>
+T consts_of(const ModelConsts& k) {
+    static_assert(std::is_trivially_copyable_v<T> && sizeof(T) <= sizeof(ModelConsts::block));
+    T out;
+    std::memcpy(&out, k.block, sizeof out);
+    return out;
+}
 
 struct ParamSpec {
     std::string name;
@@ -30,21 +54,46 @@ struct ParamSpec {
     bool integer = false;   // must be a whole number (band counts)
 };
 
+// One asserted bound of a model's kernel against its reference: tests/test_precision.cpp measures every model in
+// both precision modes and asserts these (docs/precision.md lists them). Relative error |k - r| / |r| over the
+// well-conditioned values, max over the probes (defaults and range ends). probe "*" is the model's own row (every
+// model needs one); a probe "param=value" overrides it for that parameter set only, where the input rounding alone
+// is amplified past the row. measured_*: what the test saw when the bound was set (50,000 triples, seed 4242).
+struct PrecisionBound {
+    std::string probe;
+    double measured_precise, precise;   // precise mode: measured max rel, asserted bound
+    double measured_fast, fast;         // fast mode: measured max rel, asserted bound
+};
+
 struct ModelInfo {
     std::string name;      // unique, what users type: "minnaert_1941"
-    std::string family;    // "minnaert"
+    std::string family;    // "minnaert" (set from the family it is registered in)
     std::string summary;   // one line for --help and docs
     std::string source;    // the paper or seed it comes from
     std::string header;    // kernel file, relative to kernels/: "models/minnaert.cl"
     std::string eval;      // kernel function: float3 f(float3 N, float3 L, float3 V, float3 P, consts*)
     std::vector<ParamSpec> params;
     int children = 0;      // number of child materials it blends (gradient: 2)
-    // Parameter-only constants, computed once per material: params are in `params` order, resolved.
-    std::function<void(const std::vector<double>& params, float* c)> pack;
+    PackFn pack;           // its constants (none: the model reads only albedo and specular)
     bool reciprocal = false;         // f_r(L, V) == f_r(V, L) (value / NoL symmetric) at EVERY parameter value in range
     bool energy_conserving = false;  // directional albedo <= 1 for albedo 1, at every parameter value in range
+    std::vector<PrecisionBound> precision;   // kernel vs reference, both modes (see PrecisionBound)
+    std::string doc;       // its documentation page from the repository root (set from its family's)
 };
 
+// A family as it registers itself: register_<name>_family() in host/models/<name>.cpp returns one.
+struct ModelFamily {
+    std::string name;    // "oren_nayar": host/models/<name>.cpp, host/reference/<name>_ref.cpp (add_<name>_references)
+    int rank = 0;        // its place in the catalogue (listing and contact-sheet order), unique
+    std::string title;   // its row's name in docs/models/README.md ("Oren-Nayar")
+    std::string doc;     // its documentation page from the repository root ("docs/models/oren_nayar.md")
+    std::vector<ModelInfo> models;
+};
+
+// Every registered family, by rank.
+const std::vector<ModelFamily>& model_families();
+
+// Every model, family by family (by rank), each family's in its registered order.
 const std::vector<ModelInfo>& model_catalogue();
 
 // Throws shadelab::Error listing the known names when `name` is unknown.
@@ -65,15 +114,5 @@ std::vector<double> ordered_params(const ModelInfo& info, const Material& m);
 // Packs albedo, specular and the model's constants. Gradient-like models get children after themselves.
 std::vector<ModelConsts> pack_material(const Material& resolved);
 
-// Families add themselves here (one file each under host/models/).
-void register_lambert_family(std::vector<ModelInfo>& out);
-void register_wrap_family(std::vector<ModelInfo>& out);
-void register_phong_family(std::vector<ModelInfo>& out);
-void register_banded_toon_family(std::vector<ModelInfo>& out);
-void register_minnaert_family(std::vector<ModelInfo>& out);
-void register_oren_nayar_family(std::vector<ModelInfo>& out);
-void register_cook_torrance_family(std::vector<ModelInfo>& out);
-void register_gradient_family(std::vector<ModelInfo>& out);
-void register_planetary_family(std::vector<ModelInfo>& out);
 
 }  // namespace shadelab

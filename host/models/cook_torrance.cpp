@@ -3,11 +3,15 @@
 // Fresnel term. Parameter-only constants (1/m^2, the dielectric's index) are packed here, once per material.
 #include <cmath>
 
+#include "consts/cook_torrance.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
 
-void register_cook_torrance_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 70 in the catalogue.
+ModelFamily register_cook_torrance_family() {
+    ModelFamily family{"cook_torrance", 70, "Cook-Torrance", "docs/models/cook_torrance.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     const std::vector<ParamSpec> params = {
         // 0.02: sharper lobes are near-mirrors (peak D = 1/(pi m^2) = 796 here), and the float error near the
         // peak grows as 1/m (the exponent's slope, docs). 1: rougher than that is no longer a highlight.
@@ -19,23 +23,26 @@ void register_cook_torrance_family(std::vector<ModelInfo>& out) {
         {"ks", 1.0, 0.0, 1.0,
          "weight of the specular part (times the specular colour); pi/4 = 0.785 gives today's 4 NoL NoV denominator"},
     };
-    auto pack = [](const std::vector<double>& p, float* c) {
+    const PackFn pack = packer<CookTorranceConsts>([](const std::vector<double>& p) {
         const double m = p[0], f0 = p[1];
-        c[0] = float(m);
-        c[1] = float(f0);
-        c[2] = float(p[2]);
-        c[3] = float(p[3]);
-        c[4] = float(1.0 / (m * m));
-        c[5] = float(1.0 / (M_PI * m * m));
-        c[6] = float(m * m);
+        CookTorranceConsts c{};
+        c.m = float(m);
+        c.f0 = float(f0);
+        c.kd = float(p[2]);
+        c.ks = float(p[3]);
+        c.inv_m2 = float(1.0 / (m * m));
+        c.inv_pi_m2 = float(1.0 / (M_PI * m * m));
+        c.m2 = float(m * m);
         // The dielectric with normal-incidence reflectance f0 = ((eta - 1) / (eta + 1))^2 has
         // eta = (1 + sqrt f0) / (1 - sqrt f0); the kernel takes 1/eta, which is 0 (not infinite) at f0 = 1.
         const double s = std::sqrt(f0);
         const double inv_eta = (1.0 - s) / (1.0 + s);
-        c[7] = float(inv_eta);
-        c[8] = float(1.0 - inv_eta * inv_eta);
-    };
-    auto add = [&](const char* name, const char* summary, const char* eval, const char* source) {
+        c.inv_eta = float(inv_eta);
+        c.one_minus_inv_eta2 = float(1.0 - inv_eta * inv_eta);
+        return c;
+    });
+    auto add = [&](const char* name, const char* summary, const char* eval, const char* source,
+                   std::vector<PrecisionBound> precision) {
         ModelInfo m;
         m.name = name;
         m.family = "cook_torrance";
@@ -50,18 +57,28 @@ void register_cook_torrance_family(std::vector<ModelInfo>& out) {
         // Not at every parameter value: the 1982 pi (not 4) in the denominator lets the lobe reflect up to 4/pi
         // of the light at F = 1, and kd albedo is added on top of it (docs: white furnace table).
         m.energy_conserving = false;
+        m.precision = std::move(precision);
         out.push_back(m);
     };
     add("cook_torrance", "Cook-Torrance 1982: kd albedo NoL + ks specular F_Schlick D_Beckmann G_VGroove / NoV",
         "cook_torrance_eval",
-        "Cook & Torrance (1982) ACM ToG 1(1); Beckmann (1963); Schlick (1994); Blinn (1977); seed 004");
+        "Cook & Torrance (1982) ACM ToG 1(1); Beckmann (1963); Schlick (1994); Blinn (1977); seed 004",
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        {{"*", 3.80e-6, 1e-5, 3.80e-6, 1e-5}, {"m=0.02", 7.73e-4, 2e-3, 7.73e-4, 2e-3}});
     add("cook_torrance_ggx", "Cook-Torrance with the GGX (Trowbridge-Reitz) distribution in place of Beckmann",
-        "cook_torrance_ggx_eval", "Walter et al. (2007) EGSR; Cook & Torrance (1982)");
+        "cook_torrance_ggx_eval", "Walter et al. (2007) EGSR; Cook & Torrance (1982)",
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        {{"*", 5.69e-6, 1.5e-5, 5.69e-6, 1.5e-5}, {"m=0.02", 1.51e-3, 4e-3, 1.51e-3, 4e-3}});
     add("cook_torrance_exact_fresnel", "Cook-Torrance with the exact dielectric Fresnel term (eta from f0) for Schlick",
-        "cook_torrance_exact_fresnel_eval", "Cook & Torrance (1982), Fresnel equations for unpolarised light");
+        "cook_torrance_exact_fresnel_eval", "Cook & Torrance (1982), Fresnel equations for unpolarised light",
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        {{"*", 3.64e-6, 1e-5, 3.64e-6, 1e-5}, {"m=0.02", 7.73e-4, 2e-3, 7.73e-4, 2e-3}});
     add("cook_torrance_seed004",
         "seed 004's Schlick read literally: (1 - theta)^5 with theta = acos(VoH) in radians (F = 1 at normal incidence)",
-        "cook_torrance_seed004_eval", "seed 004 (lecture slides), as written");
+        "cook_torrance_seed004_eval", "seed 004 (lecture slides), as written",
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        {{"*", 1.00e-5, 3e-5, 1.00e-5, 3e-5}, {"m=0.02", 7.82e-4, 2e-3, 7.82e-4, 2e-3}});
+    return family;
 }
 
 }  // namespace shadelab

@@ -1,10 +1,11 @@
 // The planetary family (kernels/models/planetary.cl, docs/photometry.md): ISIS3's photometric laws of airless
-// bodies. Parameter names are shadelab's lower-case forms of ISIS's keywords (Wh -> wh, Hg1 -> hg1, ...);
+// bodies (Lommel-Seeliger and Lunar-Lambert are their own family: host/models/lunar_lambert.cpp). Parameter names are shadelab's lower-case forms of ISIS's keywords (Wh -> wh, Hg1 -> hg1, ...);
 // host/photometry/isis_pvl.cpp maps ISIS's PVL files onto them. Ranges are ISIS's where ISIS bounds a value, and
 // stated bounds where it does not (a fit needs finite ones): docs/photometry.md lists both.
 #include <algorithm>
 #include <cmath>
 
+#include "consts/planetary.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
@@ -45,65 +46,64 @@ std::vector<ParamSpec> hapke_common() {
     };
 }
 
-// c[0..8]: w/4, gamma, B0 (0 when h = 0), 1/h (0 when h = 0), rough flag, chi, tan(theta), (2/pi) cot(theta),
-// (1/pi) cot^2(theta). Computed in double; the cot terms capped (kernel: Hapke_E1/E2 say why).
-void pack_hapke_common(const std::vector<double>& p, float* c) {
+// The constants every Hapke variant shares (w/4 .. k2 of HapkeConsts), from wh, b0, hh, theta. Computed in
+// double; the cot terms capped (kernel: Hapke_E2 says why). The phase function's and hapke_2012's are 0.
+HapkeConsts hapke_common_consts(const std::vector<double>& p) {
     const double w = p[0], b0 = p[1], h = p[2], theta = p[3] * kPi / 180.0;
-    c[0] = float(w / 4.0);
-    c[1] = float(std::sqrt(1.0 - w));
-    c[2] = h > 0.0 ? float(b0) : 0.0f;
-    c[3] = h > 0.0 ? float(1.0 / h) : 0.0f;
-    c[4] = theta > 0.0 ? 1.0f : 0.0f;
+    HapkeConsts c{};
+    c.w_over_4 = float(w / 4.0);
+    c.gamma = float(std::sqrt(1.0 - w));
+    c.b0 = h > 0.0 ? float(b0) : 0.0f;
+    c.inv_h = h > 0.0 ? float(1.0 / h) : 0.0f;
+    c.rough = theta > 0.0 ? 1.0f : 0.0f;
     if (theta > 0.0) {
         const double tan_t = std::tan(theta), cot_t = 1.0 / tan_t;
-        c[5] = float(1.0 / std::sqrt(1.0 + kPi * tan_t * tan_t));
-        c[6] = float(tan_t);
-        c[7] = float(std::min(2.0 / kPi * cot_t, 1e15));
-        c[8] = float(std::min(cot_t * cot_t / kPi, 1e30));
+        c.chi = float(1.0 / std::sqrt(1.0 + kPi * tan_t * tan_t));
+        c.tan_t = float(tan_t);
+        c.k1 = float(std::min(2.0 / kPi * cot_t, 1e15));
+        c.k2 = float(std::min(cot_t * cot_t / kPi, 1e30));
     }
+    return c;
 }
 
-// Henyey-Greenstein constants c[9..14] (kernel: Hapke_P_HG2); b = Hg1, cw = Hg2.
-void pack_hg2(double b, double cw, float* c) {
+// Henyey-Greenstein constants (kernel: Hapke_P_HG2); b = Hg1, cw = Hg2.
+HapkeHG2Consts hg2_consts(double b, double cw) {
     const double s = std::abs(b);
-    c[9] = float((1.0 - s) * (1.0 - s));
-    c[10] = float(2.0 * s);
-    c[11] = b >= 0.0 ? 1.0f : 0.0f;
-    c[12] = float(1.0 - b * b);
-    c[13] = float(cw);
-    c[14] = float(1.0 - cw);
+    HapkeHG2Consts c{};
+    c.a = float((1.0 - s) * (1.0 - s));
+    c.two_abs_b = float(2.0 * s);
+    c.b_positive = b >= 0.0 ? 1.0f : 0.0f;
+    c.one_minus_b2 = float(1.0 - b * b);
+    c.c = float(cw);
+    c.one_minus_c = float(1.0 - cw);
+    return c;
+}
+
+// McEwen's m1, m2, m3 as they are (r30, r_floor 0: lunar_lambert_mcewen reads only these).
+McEwenConsts mcewen_consts(const std::vector<double>& p) {
+    McEwenConsts c{};
+    c.m1 = float(p[0]);
+    c.m2 = float(p[1]);
+    c.m3 = float(p[2]);
+    return c;
 }
 
 }  // namespace
 
-void register_planetary_family(std::vector<ModelInfo>& out) {
-    {
-        ModelInfo m = base("lommel_seeliger", "Lommel-Seeliger, ISIS's normalisation: albedo * 2 NoL / (NoL + NoV)",
-                           "Seeliger (1888); ISIS3 LommelSeeliger photometric model", "lommel_seeliger_eval");
-        m.reciprocal = true;   // f_r = 2 albedo / (pi (NoL + NoV))
-        m.energy_conserving = false;
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("lunar_lambert", "Lunar-Lambert: albedo * NoL ((1 - L) + 2 L / (NoL + NoV))",
-                           "McEwen (1991) Icarus 92:298; ISIS3 LunarLambert photometric model", "lunar_lambert_eval");
-        m.params = {{"l", 1.0, -1.0, 2.0,
-                     "limb-darkening weight L (ISIS L): 0 Lambert, 1 Lommel-Seeliger; ISIS sets no bounds"}};
-        m.pack = [](const std::vector<double>& p, float* c) { c[0] = float(p[0]); };
-        m.reciprocal = true;   // f_r = albedo/pi ((1 - L) + 2L / (NoL + NoV)): symmetric
-        m.energy_conserving = false;
-        out.push_back(m);
-    }
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 90 in the catalogue.
+ModelFamily register_planetary_family() {
+    ModelFamily family{"planetary", 90, "planetary (ISIS3's photometric laws)", "docs/photometry.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("lunar_lambert_mcewen",
                            "Lunar-Lambert with McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3 (g in degrees)",
                            "McEwen (1996) LPSC 27:841 (lunar L(g)); ISIS3 LunarLambertMcEwen", "lunar_lambert_mcewen_eval");
         m.params = kMcEwenParams;
-        m.pack = [](const std::vector<double>& p, float* c) {
-            for (int k = 0; k < 3; ++k) c[k] = float(p[std::size_t(k)]);
-        };
+        m.pack = packer<McEwenConsts>(mcewen_consts);
         m.reciprocal = true;   // L depends on g only, which is symmetric in L and V
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.53e-5, 7e-5, 2.53e-5, 7e-5}};
         out.push_back(m);
     }
     {
@@ -112,15 +112,21 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
                            "McEwen (1996) LPSC 27:841; ISIS3 LunarLambertMcEwen (the normalising form it returns)",
                            "lunar_lambert_mcewen_ratio_eval");
         m.params = kMcEwenParams;
-        m.pack = [](const std::vector<double>& p, float* c) {
-            for (int k = 0; k < 3; ++k) c[k] = float(p[std::size_t(k)]);
+        m.pack = packer<McEwenConsts>([](const std::vector<double>& p) {
+            McEwenConsts c = mcewen_consts(p);
             // R30 = r at the standard geometry g = 30, i = 30, e = 0 (mu0 = cos 30, mu = 1), ISIS's choice
             const double L30 = mcewen_L(p, 30.0), c30 = std::cos(30.0 * kPi / 180.0);
-            c[3] = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
-            c[4] = 1e-3f;   // floor of r (kernel comment)
-        };
+            c.r30 = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
+            c.r_floor = 1e-3f;   // floor of r (kernel comment)
+            return c;
+        });
         m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {
+            // R30 / r with r near 0 where McEwen's L(g) < 0
+            {"*", 2.35e-4, 7e-4, 2.35e-4, 7e-4},
+        };
         out.push_back(m);
     }
     {
@@ -133,12 +139,15 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
                             "Henyey-Greenstein asymmetry b (ISIS Hg1, -1 < b < 1): lobe 1 (1 + b^2 + 2b cos g)"});
         m.params.push_back({"hg2", 0.0, 0.0, 1.0,
                             "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});
-        m.pack = [](const std::vector<double>& p, float* c) {
-            pack_hapke_common(p, c);
-            pack_hg2(p[4], p[5], c);
-        };
+        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+            HapkeConsts c = hapke_common_consts(p);
+            c.phase.hg2 = hg2_consts(p[4], p[5]);
+            return c;
+        });
         m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
         m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 4.00e-6, 1.2e-5, 4.00e-6, 1.2e-5}};
         out.push_back(m);
     }
     {
@@ -148,13 +157,16 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
         m.params = hapke_common();
         m.params.push_back({"bh", 0.0, -1.0, 1.0, "Legendre coefficient b of cos g (ISIS Bh, -1 <= b <= 1)"});
         m.params.push_back({"ch", 0.0, -1.0, 1.0, "Legendre coefficient c of P2(cos g) (ISIS Ch, -1 <= c <= 1)"});
-        m.pack = [](const std::vector<double>& p, float* c) {
-            pack_hapke_common(p, c);
-            c[9] = float(p[4]);
-            c[10] = float(p[5]);
-        };
+        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+            HapkeConsts c = hapke_common_consts(p);
+            c.phase.legendre.b = float(p[4]);
+            c.phase.legendre.c = float(p[5]);
+            return c;
+        });
         m.reciprocal = true;
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.07e-5, 3e-5, 1.07e-5, 3e-5}};
         out.push_back(m);
     }
     {
@@ -170,21 +182,25 @@ void register_planetary_family(std::vector<ModelInfo>& out) {
                             "filling factor phi (porosity 1 - phi): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)); 0: K = 1"});
         m.params.push_back({"bc0", 0.0, 0.0, 10.0, "coherent-backscatter amplitude B_C0 (0: none)"});
         m.params.push_back({"hc", 0.0, 0.0, 10.0, "coherent-backscatter width h_C (0: none)"});
-        m.pack = [](const std::vector<double>& p, float* c) {
-            pack_hapke_common(p, c);
-            pack_hg2(p[4], p[5], c);
+        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+            HapkeConsts c = hapke_common_consts(p);
+            c.phase.hg2 = hg2_consts(p[4], p[5]);
             const double w = p[0], gamma = std::sqrt(1.0 - w), phi = p[6], bc0 = p[7], hc = p[8];
             const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
-            c[15] = float(w);
-            c[16] = float((1.0 - gamma) / (1.0 + gamma));
-            c[17] = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
-            c[18] = hc > 0.0 ? float(bc0) : 0.0f;
-            c[19] = hc > 0.0 ? float(1.0 / hc) : 0.0f;
-        };
+            c.w = float(w);
+            c.r0 = float((1.0 - gamma) / (1.0 + gamma));
+            c.K = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
+            c.bc0 = hc > 0.0 ? float(bc0) : 0.0f;
+            c.inv_hc = hc > 0.0 ? float(1.0 / hc) : 0.0f;
+            return c;
+        });
         m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.85e-6, 6e-6, 1.85e-6, 6e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -1,5 +1,6 @@
 // The wrap-lighting family (kernels/models/wrap.cl, docs/models/wrap.md): half-Lambert, the seed's
 // squared diffuse wrap and Filament's energy-conserving wrap. Constants are packed once per material here.
+#include "consts/wrap.h"
 #include "models/catalogue.hpp"
 
 namespace shadelab {
@@ -28,18 +29,25 @@ ParamSpec wrap_value_param() {
             "1 no wrap (max(0, NoL)^2)"};
 }
 
-void pack_wrap_value(const std::vector<double>& p, float* c) {
-    c[0] = float(p[0]);
-    c[1] = float(1.0 - p[0]);
+WrapConsts wrap_consts(const std::vector<double>& p) {
+    WrapConsts k{};
+    k.a = float(p[0]);
+    k.one_minus_a = float(1.0 - p[0]);
+    return k;
 }
 
 }  // namespace
 
-void register_wrap_family(std::vector<ModelInfo>& out) {
+// The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 20 in the catalogue.
+ModelFamily register_wrap_family() {
+    ModelFamily family{"wrap", 20, "Half-Lambert and wrap", "docs/models/wrap.md", {}};
+    std::vector<ModelInfo>& out = family.models;
     {
         ModelInfo m = base("half_lambert", "Valve's half-Lambert: albedo * ((NoL + 1) / 2)^2, NoL unclamped (0 at NoL = -1)",
                            kValveSource, "half_lambert_eval");
         m.energy_conserving = false;   // directional albedo 7/6 (hemisphere), 4/3 (sphere)
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.50e-7, 8e-7, 2.50e-7, 8e-7}};
         out.push_back(m);
     }
     {
@@ -48,14 +56,18 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "seed 001 (its code clamps NoL before the mapping); Valve's form is half_lambert",
                            "half_lambert_seed001_eval");
         m.energy_conserving = false;   // 7/6 over the hemisphere, 5/3 over the sphere
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 2.50e-7, 8e-7, 2.50e-7, 8e-7}};
         out.push_back(m);
     }
     {
         ModelInfo m = base("wrap", "seed 001's diffuse wrap: albedo * max(0, NoL a + 1 - a)^2, NoL unclamped, a in [0.5, 1]",
                            "seed 001 (Half-Lambert / diffuse wrap); a = 0.5 is Valve's half-Lambert", "wrap_eval");
         m.params = {wrap_value_param()};
-        m.pack = pack_wrap_value;
+        m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;   // hemisphere 2 (1 - (1 - a)^3) / (3 a): 7/6 at a = 0.5
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.42e-6, 4e-6, 1.42e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -63,8 +75,10 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "seed 001 (clamped NoL as in its half-Lambert code); the reference is wrap",
                            "wrap_seed001_eval");
         m.params = {wrap_value_param()};
-        m.pack = pack_wrap_value;
+        m.pack = packer<WrapConsts>(wrap_consts);
         m.energy_conserving = false;
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 1.42e-6, 4e-6, 1.42e-6, 4e-6}};
         out.push_back(m);
     }
     {
@@ -73,13 +87,18 @@ void register_wrap_family(std::vector<ModelInfo>& out) {
                            "wrap_energy_eval");
         m.params = {{"w", 0.5, 0.0, 1.0,
                      "wrap amount: 0 Lambert, 1 light wraps to NoL = -1; the terminator is at NoL = -w"}};
-        m.pack = [](const std::vector<double>& p, float* c) {
-            c[0] = float(p[0]);
-            c[1] = float(1.0 / ((1.0 + p[0]) * (1.0 + p[0])));
-        };
+        m.pack = packer<WrapEnergyConsts>([](const std::vector<double>& p) {
+            WrapEnergyConsts k{};
+            k.w = float(p[0]);
+            k.inv_sq = float(1.0 / ((1.0 + p[0]) * (1.0 + p[0])));
+            return k;
+        });
         m.energy_conserving = true;   // sphere: exactly 1; hemisphere: (1 + 2w) / (1 + w)^2 <= 1
+        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+        m.precision = {{"*", 7.33e-7, 2e-6, 7.33e-7, 2e-6}};
         out.push_back(m);
     }
+    return family;
 }
 
 }  // namespace shadelab

@@ -370,7 +370,10 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
 std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw) {
     std::vector<std::string> defines;
     if (law.empirical) {
-        defines = {"SL_MODEL_HEADER=<models/planetary.cl>", "SL_EVAL=lommel_seeliger_eval"};
+        // The empirical kernel reads no model, but the file is built with one: the catalogue's Lommel-Seeliger,
+        // wherever its family registered it.
+        const ModelInfo& any = find_model("lommel_seeliger");
+        defines = {"SL_MODEL_HEADER=<" + any.header + ">", "SL_EVAL=" + any.eval};
     } else {
         const ModelInfo& info = find_model(law.material.model);
         defines = {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval};

@@ -18,7 +18,6 @@ constexpr double kDeg = kPi / 180.0;
 
 
 // ---- laws ---------------------------------------------------------------------------------------------
-double Pho_LommelSeeliger(double mu0, double mu) { return 2.0 * mu0 / (mu0 + mu); }
 double Pho_LunarLambert(double mu0, double mu, double L) { return mu0 * ((1.0 - L) + 2.0 * L / (mu0 + mu)); }
 double Pho_McEwen_L(double g, double m1, double m2, double m3) { return 1.0 + m1 * g + m2 * g * g + m3 * g * g * g; }
 
@@ -179,17 +178,18 @@ PhotometricAngles angles_from_vectors(const glm::dvec3& N0, const glm::dvec3& L0
     return a;
 }
 
-bool is_planetary_model(const std::string& model) {
-    return model == "lommel_seeliger" || model == "lunar_lambert" || model == "lunar_lambert_mcewen" ||
-           model == "lunar_lambert_mcewen_ratio" || model == "hapke_hen" || model == "hapke_leg" ||
-           model == "hapke_2012";
-}
+bool is_planetary_model(const std::string& model) { return angle_reference_for(model) != nullptr; }
 
 double planetary_value(const Material& m, const PhotometricAngles& a) {
-    if (!is_planetary_model(m.model)) throw Error("model '" + m.model + "' is not one of the planetary laws");
+    const AngleFn* f = angle_reference_for(m.model);
+    if (!f) throw Error("model '" + m.model + "' is not one of the planetary laws (it has no form in photometric angles)");
     if (!(a.mu0 > 0.0 && a.mu > 0.0)) return 0.0;
-    if (m.model == "lommel_seeliger") return Pho_LommelSeeliger(a.mu0, a.mu);
-    if (m.model == "lunar_lambert") return Pho_LunarLambert(a.mu0, a.mu, m.params.at("l"));
+    return (*f)(m, a);
+}
+
+namespace {
+// The planetary family's laws at photometric angles (mu0, mu > 0: planetary_value checks).
+double planetary_law(const Material& m, const PhotometricAngles& a) {
     if (m.model == "lunar_lambert_mcewen") return Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
     if (m.model == "lunar_lambert_mcewen_ratio") {
         // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-3 (kernel comment).
@@ -203,13 +203,15 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
         return Hapke_value(a, m, Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2")));
     return Hapke_value(a, m, Hapke_P_Legendre(a.g_deg, m.params.at("bh"), m.params.at("ch")));
 }
+}  // namespace
 
 void add_planetary_references(Table& t) {
-    for (const char* name : {"lommel_seeliger", "lunar_lambert", "lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio",
-                             "hapke_hen", "hapke_leg", "hapke_2012"})
+    for (const char* name : {"lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio", "hapke_hen", "hapke_leg", "hapke_2012"}) {
+        t.angles[name] = planetary_law;
         t[name] = [](const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&, const Material& m) {
             return m.albedo * planetary_value(m, angles_from_vectors(N, L, V));
         };
+    }
 }
 
 }  // namespace shadelab::ref

@@ -27,11 +27,13 @@ PhotometricAngles angles_from_degrees(double phase_deg, double incidence_deg, do
 // From unit vectors (renormalised in double).
 PhotometricAngles angles_from_vectors(const glm::dvec3& N, const glm::dvec3& L, const glm::dvec3& V);
 
-// True for the models of the planetary family.
+// True for the models with a form in photometric angles (their reference registers one: reference.hpp, Table;
+// their kernel has a `<name>_pho` function, kernels/photometry.cl's SL_PHO_EVAL): the planetary family's laws and
+// those written like them (the Lunar-Lambert family).
 bool is_planetary_model(const std::string& model);
 
 // The law's value for albedo 1 (the catalogue's value divided by the albedo) at these angles; 0 where
-// mu0 <= 0 or mu <= 0. `m` is a resolved material of the planetary family; throws shadelab::Error otherwise.
+// mu0 <= 0 or mu <= 0. `m` is a resolved material of such a model; throws shadelab::Error otherwise.
 double planetary_value(const Material& m, const PhotometricAngles& a);
 
 // cos and sin of an angle in degrees, exact at multiples of 90 (what angles_from_degrees uses).

@@ -7,19 +7,19 @@
 
 namespace shadelab::ref {
 
+// Every registered family's references (host/reference/<family>_ref.cpp), from the list the build writes from
+// host/models/ (cmake/model_families.cmake): a family without its reference file does not link.
+#define SL_FAMILY(name) void add_##name##_references(Table& t);
+#include "model_families.inc"
+#undef SL_FAMILY
+
 namespace {
 const Table& table() {
     static const Table t = [] {
         Table x;
-        add_lambert_references(x);
-        add_wrap_references(x);
-        add_phong_references(x);
-        add_banded_toon_references(x);
-        add_minnaert_references(x);
-        add_oren_nayar_references(x);
-        add_cook_torrance_references(x);
-        add_gradient_references(x);
-        add_planetary_references(x);
+#define SL_FAMILY(name) add_##name##_references(x);
+#include "model_families.inc"
+#undef SL_FAMILY
         return x;
     }();
     return t;
@@ -27,14 +27,19 @@ const Table& table() {
 }  // namespace
 
 const ModelFn& reference_for(const std::string& model) {
-    auto it = table().find(model);
-    if (it == table().end()) throw Error("model '" + model + "' has no double-precision reference");
+    auto it = table().vectors.find(model);
+    if (it == table().vectors.end()) throw Error("model '" + model + "' has no double-precision reference");
     return it->second;
+}
+
+const AngleFn* angle_reference_for(const std::string& model) {
+    auto it = table().angles.find(model);
+    return it == table().angles.end() ? nullptr : &it->second;
 }
 
 std::vector<std::string> models_with_reference() {
     std::vector<std::string> v;
-    for (const auto& [k, _] : table()) v.push_back(k);
+    for (const auto& [k, _] : table().vectors) v.push_back(k);
     return v;
 }
 

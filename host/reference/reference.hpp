@@ -14,6 +14,7 @@
 
 #include "core/fragment_buffer.hpp"
 #include "models/material.hpp"
+#include "reference/planetary_ref.hpp"
 
 namespace shadelab::ref {
 
@@ -45,16 +46,20 @@ dvec3 shade_point(const dvec3& P, const dvec3& N, const dvec3& V, const Material
 std::vector<float> shade_fragments(const FragmentBuffer& fb, const Material& m, const std::vector<Light>& lights,
                                    const dvec3& ambient, const dvec3& eye);
 
-// Families add their references here (one file each under host/reference/).
-using Table = std::map<std::string, ModelFn>;
-void add_lambert_references(Table& t);
-void add_wrap_references(Table& t);
-void add_phong_references(Table& t);
-void add_banded_toon_references(Table& t);
-void add_minnaert_references(Table& t);
-void add_oren_nayar_references(Table& t);
-void add_cook_torrance_references(Table& t);
-void add_gradient_references(Table& t);
-void add_planetary_references(Table& t);
+// A law's value for albedo 1 at photometric angles (laws written in them, such as ISIS's: planetary_ref.hpp).
+using AngleFn = std::function<double(const Material& m, const PhotometricAngles& a)>;
+
+// What a family's reference file fills, one per family: add_<family>_references(Table&) in
+// host/reference/<family>_ref.cpp, called for every registered family (the list the build writes from
+// host/models/, cmake/model_families.cmake). t["name"] = ... adds a model's reference at vectors; laws that
+// also have a form in photometric angles add it to `angles` (what planetary_value dispatches on).
+struct Table {
+    std::map<std::string, ModelFn> vectors;
+    std::map<std::string, AngleFn> angles;
+    ModelFn& operator[](const std::string& model) { return vectors[model]; }
+};
+
+// The photometric-angle form of `model`, or nullptr when it has none.
+const AngleFn* angle_reference_for(const std::string& model);
 
 }  // namespace shadelab::ref

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "consts/scene.h"   // DeviceLight, DeviceView, shared with kernels/shade.cl
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
 
@@ -12,16 +13,8 @@ namespace shadelab {
 
 namespace {
 
-// Host mirror of `Light` in kernels/common.cl.
-struct LightGPU {
-    float pos_or_dir[4];
-    float radiance[4];
-    float params[4];
-};
-static_assert(sizeof(LightGPU) == 48, "LightGPU layout");
-
-std::vector<LightGPU> pack_lights(const std::vector<Light>& lights) {
-    std::vector<LightGPU> out;
+std::vector<DeviceLight> pack_lights(const std::vector<Light>& lights) {
+    std::vector<DeviceLight> out;
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const Light& l = lights[i];
         const std::string which = "light " + std::to_string(i + 1);
@@ -31,7 +24,7 @@ std::vector<LightGPU> pack_lights(const std::vector<Light>& lights) {
         }
         if (!std::isfinite(l.intensity) || l.intensity < 0) throw Error(which + " intensity must be finite and >= 0");
         if (!std::isfinite(l.range) || l.range < 0) throw Error(which + " range must be finite and >= 0 (0 = unbounded)");
-        LightGPU g{};
+        DeviceLight g{};
         glm::dvec3 v = l.vec;
         if (l.type == Light::Type::Directional) {
             const double len = glm::length(v);
@@ -42,11 +35,11 @@ std::vector<LightGPU> pack_lights(const std::vector<Light>& lights) {
             g.pos_or_dir[c] = float(v[c]);
             g.radiance[c] = float(l.colour[c] * l.intensity);
         }
-        g.params[0] = l.type == Light::Type::Directional ? 0.0f : 1.0f;
-        g.params[1] = float(l.range);
+        g.type = l.type == Light::Type::Directional ? 0.0f : 1.0f;
+        g.range = float(l.range);
         out.push_back(g);
     }
-    if (out.empty()) out.push_back(LightGPU{});   // a __constant buffer cannot be empty; never read
+    if (out.empty()) out.push_back(DeviceLight{});   // a __constant buffer cannot be empty; never read
     return out;
 }
 
@@ -139,14 +132,15 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, 3 * bytes, out.data());
         cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
                            const_cast<ModelConsts*>(consts.data()));
-        cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(LightGPU),
-                           const_cast<LightGPU*>(lights.data()));
+        cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(DeviceLight),
+                           const_cast<DeviceLight*>(lights.data()));
         const auto t2 = clock::now();
         k.setArg(0, bpx); k.setArg(1, bpy); k.setArg(2, bpz);
         k.setArg(3, bnx); k.setArg(4, bny); k.setArg(5, bnz);
         k.setArg(6, bout);
         k.setArg(7, cl_uint(padded));   // the plane stride of `out`
-        k.setArg(8, cl_float4{{float(view.x), float(view.y), float(view.z), float(view.w)}});
+        const DeviceView dview{{float(view.x), float(view.y), float(view.z)}, float(view.w)};
+        k.setArg(8, sizeof dview, &dview);
         k.setArg(9, bconsts);
         k.setArg(10, blights);
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});

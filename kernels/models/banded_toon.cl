@@ -10,6 +10,7 @@
 #define SHADELAB_MODEL_BANDED_TOON_CL
 #include "common.cl"
 #include "phong.cl"   // BlinnPhong_NoH, Spec_Power
+#include "consts/banded_toon.h"
 
 // ---- terms ----------------------------------------------------------------------------------------
 
@@ -54,59 +55,62 @@ SL_INLINE float Toon_Step(float x, float edge, float half_width) {
 
 // Toon diffuse: four levels d0..d3 over the unclamped NoL with ascending thresholds t1 <= t2 <= t3,
 //   d0 + (d1 - d0) Step(NoL, t1) + (d2 - d1) Step(NoL, t2) + (d3 - d2) Step(NoL, t3).
-// c[2..4] = t1..t3, c[5] = d0, c[6..8] = the level differences (host).
+// ToonConsts: t1..t3, d0 and the level differences dd1..dd3 (host).
 // Written for PoCL's loop vectoriser: the steps are the same computation at thresholds that sit next to each
 // other in memory, and as a sum of products they are what LLVM's SLP vectoriser packs into <2 x float>
 // (a horizontal reduction over adjacent loads), which stops the loop vectoriser (toon ran 51 Mfrag/s, one
 // fragment at a time). So the sum is an fma chain (no reduction to match) and each step starts after the
 // previous one (common.cl's sl_after: no two steps are independent, so none can be bundled).
-SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const float* c) {
-    const float s1 = Toon_Step(NoL, c[2], half_width);
-    const float s2 = Toon_Step(sl_after(NoL, s1), c[3], half_width);
-    const float s3 = Toon_Step(sl_after(NoL, s2), c[4], half_width);
-    return fma(c[8], s3, fma(c[7], s2, fma(c[6], s1, c[5])));
+SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const ToonConsts* k) {
+    const float s1 = Toon_Step(NoL, k->t1, half_width);
+    const float s2 = Toon_Step(sl_after(NoL, s1), k->t2, half_width);
+    const float s3 = Toon_Step(sl_after(NoL, s2), k->t3, half_width);
+    return fma(k->dd3, s3, fma(k->dd2, s2, fma(k->dd1, s1, k->d0)));
 }
 
 // Toon specular: three levels s0..s2 of the Blinn-Phong intensity x = max(0, NoH)^n with thresholds
 // u1 <= u2, s0 + (s1 - s0) Step(x, u1) + (s2 - s1) Step(x, u2).
-// c[9..10] = u1, u2, c[11] = s0, c[12..13] = the level differences (host). Written as Toon_Diffuse, for the same reason.
-SL_INLINE float Toon_Specular(float x, float half_width, __constant const float* c) {
-    const float s1 = Toon_Step(x, c[9], half_width);
-    const float s2 = Toon_Step(sl_after(x, s1), c[10], half_width);
-    return fma(c[13], s2, fma(c[12], s1, c[11]));
+// ToonConsts: u1, u2, s0 and the level differences ds1, ds2 (host). Written as Toon_Diffuse, for the same reason.
+SL_INLINE float Toon_Specular(float x, float half_width, __constant const ToonConsts* k) {
+    const float s1 = Toon_Step(x, k->u1, half_width);
+    const float s2 = Toon_Step(sl_after(x, s1), k->u2, half_width);
+    return fma(k->ds2, s2, fma(k->ds1, s1, k->s0));
 }
 
 // ---- models ---------------------------------------------------------------------------------------
 
 // banded: banded Lambert, value = albedo * floor(max(0, NoL) * steps + 1/2) / steps.
-// c[0] = steps (whole number in [1, 256]), c[1] = 1 / steps. Source: seed 001 (banded lighting), rule
+// BandedConsts: steps (whole number in [1, 256]), inv_steps = 1 / steps. Source: seed 001 (banded lighting), rule
 // corrected as above. Directional albedo: exactly 1 for albedo 1 (rounding is unbiased per band).
 SL_INLINE sl_rgb banded_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo_times(mc, Band_Round(sl_dot(N, L), mc->c[0], mc->c[1]));
+    __constant const BandedConsts* k = SL_CONSTS(BandedConsts, mc);
+    return sl_albedo_times(mc, Band_Round(sl_dot(N, L), k->steps, k->inv_steps));
 }
 
 // banded_seed001: value = albedo * (seed 001's bandedNdotL) with t = light_steps (whole number in
-// [1, 256]). c[0] = t, c[1] = t / 2, c[2] = t / 256.
+// [1, 256]). BandedSeed001Consts: t, half_t = t / 2, t_256 = t / 256.
 SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
-    return sl_albedo_times(mc, Band_Seed001(sl_dot(N, L), mc->c[0], mc->c[1], mc->c[2]));
+    __constant const BandedSeed001Consts* k = SL_CONSTS(BandedSeed001Consts, mc);
+    return sl_albedo_times(mc, Band_Seed001(sl_dot(N, L), k->t, k->half_t, k->t_256));
 }
 
 // toon: value = albedo * Toon_Diffuse(NoL) + specular * Toon_Step(NoL, 0) * Toon_Specular(max(0, NoH)^n)
 // Seed 004 ("discretize diffuse and specular factor: ~4 intensity values for diffuse, ~3 for
 // specular"); hard shading as in Lake, Marshall, Harris, Blackstein 2000, "Stylized rendering
 // techniques for scalable real-time 3D animation" (NPAR), with the 1-D texture replaced by thresholds.
-// c[0] = n, c[1] = width / 2. The highlight is gated by the light's side, an edge at NoL = 0 like the
+// ToonConsts: n, half_width = width / 2, the levels. The highlight is gated by the light's side, an edge at NoL = 0 like the
 // others (hard: NoL >= 0; smoothed with the same width), and is 0 where H is undefined (L = -V).
 // Leaves out: energy conservation, reciprocity, outlines.
 SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    const float half_width = mc->c[1];
-    const float x = Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_diffuse_specular(mc, Toon_Diffuse(NoL, half_width, mc->c),
-                               Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, mc->c));
+    __constant const ToonConsts* k = SL_CONSTS(ToonConsts, mc);
+    const float half_width = k->half_width;
+    const float x = Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
+    return sl_diffuse_specular(mc, Toon_Diffuse(NoL, half_width, k),
+                               Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, k));
 }
 
 #endif

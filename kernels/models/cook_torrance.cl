@@ -12,8 +12,9 @@
 //
 // Parameters: m (roughness: Beckmann RMS slope; GGX alpha), f0 (Fresnel reflectance at normal incidence),
 // kd, ks (weights of the diffuse and specular parts). Constants packed once on the host
-// (host/models/cook_torrance.cpp): c0 = m, c1 = f0, c2 = kd, c3 = ks, c4 = 1/m^2, c5 = 1/(pi m^2), c6 = m^2,
-// c7 = 1/eta, c8 = 1 - 1/eta^2, with eta = (1 + sqrt f0) / (1 - sqrt f0) the dielectric's index (1/eta = 0 at f0 = 1).
+// (host/models/cook_torrance.cpp) as CookTorranceConsts (consts/cook_torrance.h): m, f0, kd, ks, 1/m^2,
+// 1/(pi m^2), m^2, 1/eta and 1 - 1/eta^2, with eta = (1 + sqrt f0) / (1 - sqrt f0) the dielectric's index
+// (1/eta = 0 at f0 = 1).
 //
 // Leaves out: the paper's ambient term and its wavelength-dependent F (one f0 for all channels; colour comes
 // from the specular colour); multiple scattering between facets (V-groove G only removes light). The paper's
@@ -27,6 +28,7 @@
 #ifndef SHADELAB_MODEL_COOK_TORRANCE_CL
 #define SHADELAB_MODEL_COOK_TORRANCE_CL
 #include "common.cl"
+#include "consts/cook_torrance.h"
 
 // ---- the terms ------------------------------------------------------------------------------------------
 
@@ -144,7 +146,8 @@ SL_INLINE CT_Frame CT_frame(sl_v3 N, sl_v3 L, sl_v3 V) {
 
 // Diffuse base plus the specular part; spec = F D G / NoV (or 0).
 SL_INLINE sl_rgb CT_value(float NoL, float spec, __constant const ModelConsts* mc) {
-    return sl_diffuse_specular(mc, mc->c[2] * fmax(NoL, 0.0f), mc->c[3] * spec);
+    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+    return sl_diffuse_specular(mc, k->kd * fmax(NoL, 0.0f), k->ks * spec);
 }
 
 // ---- the models -----------------------------------------------------------------------------------------
@@ -152,8 +155,9 @@ SL_INLINE sl_rgb CT_value(float NoL, float spec, __constant const ModelConsts* m
 // cook_torrance: Beckmann D, Schlick F, V-groove G. The reference combination.
 SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
+    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
-    const float spec = f.specular ? F_Schlick(f.VoH, mc->c[1]) * D_Beckmann(f.NoH2, f.NxH2, mc->c[4], mc->c[5]) *
+    const float spec = f.specular ? F_Schlick(f.VoH, k->f0) * D_Beckmann(f.NoH2, f.NxH2, k->inv_m2, k->inv_pi_m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
                                   : 0.0f;
     return CT_value(f.NoL, spec, mc);
@@ -162,8 +166,9 @@ SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 // cook_torrance_ggx: GGX (Trowbridge-Reitz) D in place of Beckmann; same F and G.
 SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
+    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
-    const float spec = f.specular ? F_Schlick(f.VoH, mc->c[1]) * D_GGX(f.NoH2, f.NxH2, mc->c[6]) *
+    const float spec = f.specular ? F_Schlick(f.VoH, k->f0) * D_GGX(f.NoH2, f.NxH2, k->m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
                                   : 0.0f;
     return CT_value(f.NoL, spec, mc);
@@ -173,9 +178,10 @@ SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __co
 SL_INLINE sl_rgb cook_torrance_exact_fresnel_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                                   __constant const ModelConsts* mc) {
     (void)P;
+    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
-    const float spec = f.specular ? F_Dielectric(f.VoH, mc->c[7], mc->c[8]) *
-                                        D_Beckmann(f.NoH2, f.NxH2, mc->c[4], mc->c[5]) *
+    const float spec = f.specular ? F_Dielectric(f.VoH, k->inv_eta, k->one_minus_inv_eta2) *
+                                        D_Beckmann(f.NoH2, f.NxH2, k->inv_m2, k->inv_pi_m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
                                   : 0.0f;
     return CT_value(f.NoL, spec, mc);
@@ -184,10 +190,11 @@ SL_INLINE sl_rgb cook_torrance_exact_fresnel_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_
 // cook_torrance_seed004: the slides' Schlick with theta read as the angle between H and V, in radians.
 SL_INLINE sl_rgb cook_torrance_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
+    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
     const float theta = atan2(sl_length(sl_sub(L, V)), sl_length(sl_add(L, V)));   // see F_SchlickSeedAngle
-    const float spec = f.specular ? F_SchlickSeedAngle(theta, mc->c[1]) *
-                                        D_Beckmann(f.NoH2, f.NxH2, mc->c[4], mc->c[5]) *
+    const float spec = f.specular ? F_SchlickSeedAngle(theta, k->f0) *
+                                        D_Beckmann(f.NoH2, f.NxH2, k->inv_m2, k->inv_pi_m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
                                   : 0.0f;
     return CT_value(f.NoL, spec, mc);

@@ -14,6 +14,7 @@
 #ifndef SHADELAB_MODEL_MINNAERT_CL
 #define SHADELAB_MODEL_MINNAERT_CL
 #include "common.cl"
+#include "consts/minnaert.h"
 
 // ---- terms --------------------------------------------------------------------------------------------
 
@@ -73,27 +74,28 @@ SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, 
 //   value = albedo * NoL^k * NoV^(k-1) = albedo * NoL * (NoL NoV)^(k-1)    for NoL > 0 and NoV > 0, else 0
 //   f_r = (albedo / pi) * (NoL NoV)^(k-1): reciprocal for every k. k = 1 is Lambert; at zero phase (L = V,
 //   NoL = NoV = mu) the disc profile is mu^(2k-1), flat for k = 0.5.
-// Parameter: k in [0, 2] (c[0] = k - 1, c[1] = eps, c[2] = 1/eps; eps = 1e-3 for k < 1, else 0).
+// Parameter: k in [0, 2] (MinnaertConsts: k_minus_1 = k - 1, eps, inv_eps = 1/eps; eps = 1e-3 for k < 1, else 0).
 // albedo is Minnaert's B0 (the value at NoL = NoV = 1), not a hemispherical albedo: the directional albedo is
 // 2/(k+1) * NoV^(k-1), so neither energy-conserving for k < 1 nor normalised. Leaves out: phase dependence
 // of k and B0 (planetary fits use k(alpha)); opposition surge; limb guard below NoL or NoV = 1e-3 (above).
 SL_INLINE sl_rgb minnaert_1941_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
-    const float f = NoL * Minnaert_limb(NoL, NoV, mc->c[0], mc->c[1], mc->c[2]);
+    __constant const MinnaertConsts* k = SL_CONSTS(MinnaertConsts, mc);
+    const float f = NoL * Minnaert_limb(NoL, NoV, k->k_minus_1, k->eps, k->inv_eps);
     return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }
 
 // minnaert_unity (seeds 000 "Shader Story" and 001, Unity-style HLSL):
 //   value = albedo * saturate(NoL * (NoL NoV)^k),  NoL = max(0, N.L), NoV = max(0, N.V)    (0 for NoL <= 0)
 // = albedo * min(1, NoL^(1+k) NoV^k): the 1941 law with k_1941 = k + 1, clipped at 1 (only possible for k < 0).
-// Parameter: k ("_Roughness") in [-1, 1] (c[0] = k); k = 0 is Lambert. Reciprocal for k >= 0 only (the clip
+// Parameter: k ("_Roughness") in [-1, 1] (MinnaertUnityConsts: k); k = 0 is Lambert. Reciprocal for k >= 0 only (the clip
 // is not symmetric). No limb guard needed: the saturate bounds it. NoL <= 0 returns 0 explicitly, where the
 // seed's 0 * pow(0, k < 0) = 0 * inf would be NaN. Leaves out: 1/pi, any normalisation.
 SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = fmax(sl_dot(N, L), 0.0f), NoV = fmax(sl_dot(N, V), 0.0f);
-    const float f = Fd_MinnaertUnity(NoL, NoV, mc->c[0]);
+    const float f = Fd_MinnaertUnity(NoL, NoV, SL_CONSTS(MinnaertUnityConsts, mc)->k);
     return sl_albedo_times(mc, NoL > 0.0f ? f : 0.0f);
 }
 
@@ -102,28 +104,30 @@ SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __const
 //   d <= 1:  value = albedo * NoL * max(nv NoL, 0.1)^(d-1)     (1941 law with k = d where nv NoL >= 0.1)
 //   d >  1:  value = albedo * NoL * (1.001 - nv)^(d-1)         (not a Minnaert law: darkens the centre)
 //   nv = max(NoV, 0) (Blender clamps, it does not return 0 behind the limb); 0 for NoL <= 0.
-// Parameter: darkness d in [0, 2] (c[0] = d - 1, c[1] = 1 for the d <= 1 branch else 0); d = 1 is Lambert.
+// Parameter: darkness d in [0, 2] (MinnaertBlenderConsts: d_minus_1 = d - 1, real_branch = 1 for d <= 1 else 0); d = 1 is Lambert.
 // Reciprocal for d <= 1 only. Leaves out: 1/pi, normalisation (d < 1 brightens up to 10x Lambert).
 SL_INLINE sl_rgb minnaert_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float nv = fmax(NoV, 0.0f);
     const float one_minus_nv = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
-    const float factor = mc->c[1] != 0.0f ? Minnaert_blender_real(NoL, nv, mc->c[0])
-                                          : Minnaert_blender_nvidia(one_minus_nv, mc->c[0]);
+    __constant const MinnaertBlenderConsts* k = SL_CONSTS(MinnaertBlenderConsts, mc);
+    const float factor = k->real_branch != 0.0f ? Minnaert_blender_real(NoL, nv, k->d_minus_1)
+                                                : Minnaert_blender_nvidia(one_minus_nv, k->d_minus_1);
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * factor : 0.0f);
 }
 
 // minnaert_b (seed 002, "MinnaertB", citing a course page I could not retrieve to check it against):
 //   value = albedo * NoL * NoL^k * (1 - NoV)^(1-k),  NoV clamped to [0, 1] as shaders do;  0 for NoL <= 0
-// Parameter: k in [0, 1] (c[0] = k, c[1] = 1 - k). No k gives Lambert (k = 1 gives NoL^2); for k < 1 the
+// Parameter: k in [0, 1] (MinnaertBConsts: k, one_minus_k = 1 - k). No k gives Lambert (k = 1 gives NoL^2); for k < 1 the
 // value is 0 where the surface faces the viewer (NoV = 1) and largest at the limb: a velvet/rim look, not a
 // lunar law. Never brighter than Lambert (energy-conserving), not reciprocal. Leaves out: 1/pi.
 SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float one_minus_NoV = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
-    const float f = MinnaertB_factor_times(NoL, NoL, one_minus_NoV, mc->c[0], mc->c[1]);   // NoL * factor
+    __constant const MinnaertBConsts* k = SL_CONSTS(MinnaertBConsts, mc);
+    const float f = MinnaertB_factor_times(NoL, NoL, one_minus_NoV, k->k, k->one_minus_k);   // NoL * factor
     return sl_albedo_times(mc, NoL > 0.0f ? f : 0.0f);
 }
 
@@ -131,12 +135,13 @@ SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant 
 //   f_r = albedo * (k+1)/(2 pi) * (NoL NoV)^(k-1),  value = pi f_r NoL = albedo * (k+1)/2 * NoL^k * NoV^(k-1)
 // The factor (k+1)/2 makes the directional albedo exactly `albedo` at normal incidence (and, by
 // reciprocity, the white-furnace value for a viewer on the normal); at other angles it is albedo * mu^(k-1)
-// (above albedo for k < 1, below for k > 1). Parameter: k in [0, 2] (c[0] = k - 1, c[1] = eps, c[2] = 1/eps,
-// c[3] = (k+1)/2). Same limb guard as minnaert_1941. k = 1 is Lambert.
+// (above albedo for k < 1, below for k > 1). Parameter: k in [0, 2] (MinnaertNormalizedConsts: k_minus_1, eps,
+// inv_eps as minnaert_1941, norm = (k+1)/2). Same limb guard as minnaert_1941. k = 1 is Lambert.
 SL_INLINE sl_rgb minnaert_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
-    const float f = mc->c[3] * NoL * Minnaert_limb(NoL, NoV, mc->c[0], mc->c[1], mc->c[2]);
+    __constant const MinnaertNormalizedConsts* k = SL_CONSTS(MinnaertNormalizedConsts, mc);
+    const float f = k->norm * NoL * Minnaert_limb(NoL, NoV, k->k_minus_1, k->eps, k->inv_eps);
     return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }
 

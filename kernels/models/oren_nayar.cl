@@ -31,6 +31,7 @@
 #ifndef SHADELAB_MODEL_OREN_NAYAR_CL
 #define SHADELAB_MODEL_OREN_NAYAR_CL
 #include "common.cl"
+#include "consts/oren_nayar.h"
 
 // ---- shared geometry ------------------------------------------------------------------------------------
 
@@ -70,7 +71,7 @@ SL_INLINE float ON_s(float LoV, float NoL, float NoV, float sin_r) {
 // Leaves out: the interreflection term and the C3 term of the full model (oren_nayar_full); 1/pi cancels.
 // Trig form: the paper's three factors evaluated separately, each from the cosines and |N x W| (as pbrt-v3
 // does) instead of acos/sin/tan: equal, and tan(acos(x)) in float loses its sign near x = 0 (docs).
-// c[0] = A, c[1] = B.
+// Constants: OrenNayarConsts (A, B).
 SL_INLINE float ON_sin_alpha_tan_beta(float NoL, float NoVc, float sin_i, float sin_r) {
     // alpha = max(theta_i, theta_r) is the angle with the smaller cosine; beta the one with the larger.
     const bool light_is_beta = NoL >= NoVc;
@@ -91,7 +92,8 @@ SL_INLINE sl_rgb oren_nayar_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant 
     const float NoVc = fmax(NoV, 0.0f);                              // below horizon: grazing view
     const float sin_i = ON_sin_theta(N, L);
     const float sin_r = NoV >= 0.0f ? ON_sin_theta(N, V) : 1.0f;    // below horizon: theta_r = 90 deg
-    const float f = Fd_OrenNayar(mc->c[0], mc->c[1], ON_cos_dphi(N, L, V, NoL, NoV),
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = Fd_OrenNayar(k->A, k->B, ON_cos_dphi(N, L, V, NoL, NoV),
                                  ON_sin_alpha_tan_beta(NoL, NoVc, sin_i, sin_r));
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -99,7 +101,7 @@ SL_INLINE sl_rgb oren_nayar_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant 
 // The same QON, trig-free (the form of Fujii 2013 and of seed 001, with the paper's clamp at 0):
 //   value = albedo * NoL * (A + B * max(0, s) / max(NoL, NoV)),  s = LoV - NoL NoV
 // Equal to oren_nayar by the identity in the header; no sqrt, no trig (one more sqrt below the horizon).
-// c[0] = A, c[1] = B.
+// Constants: OrenNayarConsts (A, B).
 SL_INLINE float Fd_OrenNayar_st(float A, float B, float s, float NoL, float NoVc) {
     return A + B * fmax(s, 0.0f) / fmax(NoL, NoVc);
 }
@@ -109,7 +111,8 @@ SL_INLINE sl_rgb oren_nayar_st_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
-    const float f = Fd_OrenNayar_st(mc->c[0], mc->c[1], s, NoL, fmax(NoV, 0.0f));
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = Fd_OrenNayar_st(k->A, k->B, s, NoL, fmax(NoV, 0.0f));
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
@@ -128,7 +131,8 @@ SL_INLINE sl_rgb oren_nayar_st_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 // d acos / dx -> infinity. tan((alpha + beta)/2) = (sin alpha + sin beta) / (cos alpha + cos beta) (half-angle
 // identity; the denominator is >= NoL > 0, so no tan near 90 deg). The value can dip slightly below 0 at
 // grazing forward scattering for large sigma and small albedo (docs measure it); it is not clamped.
-// c[0] = C1, c[1] = 0.45 sigma^2/(sigma^2+0.09), c[2] = 0.125 sigma^2/(sigma^2+0.09), c[3] = 0.17 sigma^2/(sigma^2+0.13)
+// Constants: OrenNayarFullConsts (C1, C2_scale = 0.45 sigma^2/(sigma^2+0.09), C3_scale = 0.125 sigma^2/(sigma^2+0.09),
+// L2_scale = 0.17 sigma^2/(sigma^2+0.13)).
 SL_INLINE float ON_C2(float c2, float cos_dphi, float sin_a, float two_beta_over_pi) {
     const float cube = two_beta_over_pi * two_beta_over_pi * two_beta_over_pi;
     return c2 * (cos_dphi >= 0.0f ? sin_a : sin_a - cube);
@@ -169,9 +173,10 @@ SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __cons
     const float tbp = 2.0f * beta * SL_INV_PI;
     const float tan_beta = sin_b / cos_b;
     const float tan_half = (sin_a + sin_b) / (cos_a + cos_b);
-    const float L1 = mc->c[0] + cos_dphi * ON_C2(mc->c[1], cos_dphi, sin_a, tbp) * tan_beta +
-                     (1.0f - fabs(cos_dphi)) * ON_C3(mc->c[2], alpha, beta) * tan_half;
-    const float L2 = ON_L2(mc->c[3], cos_dphi, tbp);
+    __constant const OrenNayarFullConsts* k = SL_CONSTS(OrenNayarFullConsts, mc);
+    const float L1 = k->C1 + cos_dphi * ON_C2(k->C2_scale, cos_dphi, sin_a, tbp) * tan_beta +
+                     (1.0f - fabs(cos_dphi)) * ON_C3(k->C3_scale, alpha, beta) * tan_half;
+    const float L2 = ON_L2(k->L2_scale, cos_dphi, tbp);
     return sl_rgb_make(ON_full_channel(mc->albedo[0], NoL, L1, L2), ON_full_channel(mc->albedo[1], NoL, L1, L2),
                        ON_full_channel(mc->albedo[2], NoL, L1, L2));
 }
@@ -185,12 +190,12 @@ SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __cons
 // on.x = the paper's A, on.z = its B, on.y = the 0.17 sigma^2/(sigma^2+0.13) factor of the full model's
 // interreflection term (without its (1 - cos(dphi)(2 beta/pi)^2)): this is Fujii's form "matched to full O-N"
 // (oren_nayar_fujii_full) except for saturate(LoV). Negative s is kept (t = 1), unlike QON's clamp.
-// c[0] = on.x, c[1] = on.y, c[2] = on.z.
+// Constants: OrenNayarAlbedoConsts (A = on.x, A_rho = on.y, B = on.z).
 // One channel, rho NoL (on.x + rho on.y + on.z s) for albedo rho. Guard: NoL = 0 (saturated) with NoV = 0 and
 // LoV > 0 divides by 0; the seed's own factor NoL makes the value 0 there, which is what is returned (without
 // 0 * inf).
-SL_INLINE float ON_seed001_channel(float rho, float NoL, float s, __constant const ModelConsts* mc) {
-    return NoL > 0.0f ? rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * s) : 0.0f;
+SL_INLINE float ON_seed001_channel(float rho, float NoL, float s, __constant const OrenNayarAlbedoConsts* k) {
+    return NoL > 0.0f ? rho * NoL * (k->A + rho * k->A_rho + k->B * s) : 0.0f;
 }
 
 SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
@@ -199,9 +204,10 @@ SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float NoV = sl_saturate(sl_dot(N, V));
     float s = sl_saturate(sl_dot(L, V)) - NoL * NoV;
     s /= s <= 0.0f ? 1.0f : fmax(NoL, NoV);   // max(NoL, NoV) >= NoL > 0 wherever the value is kept
-    return sl_rgb_make(ON_seed001_channel(mc->albedo[0], NoL, s, mc),
-                       ON_seed001_channel(mc->albedo[1], NoL, s, mc),
-                       ON_seed001_channel(mc->albedo[2], NoL, s, mc));
+    __constant const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
+    return sl_rgb_make(ON_seed001_channel(mc->albedo[0], NoL, s, k),
+                       ON_seed001_channel(mc->albedo[1], NoL, s, k),
+                       ON_seed001_channel(mc->albedo[2], NoL, s, k));
 }
 
 // Seed 003 (HLSL notes), literally:
@@ -214,7 +220,7 @@ SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // (docs measure it). The snippet's DotDiffValue is multiplied by the albedo, as the seed's Lambert is.
 // sin(acos(x)) = sqrt(1 - x^2) and tan(acos(x)) = sqrt(1 - x^2) / x exactly: used instead of the acos/sin/tan
 // chain, because in float acos(x) for x < 4e-8 rounds to float(pi/2) > pi/2, whose tan is -2.3e7: NoL * tan
-// then turns a grazing light into a large negative value (tests show it). c[0] = A, c[1] = B.
+// then turns a grazing light into a large negative value (tests show it). Constants: OrenNayarConsts (A, B).
 SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_saturate(sl_dot(N, L));
@@ -228,7 +234,8 @@ SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float sin_alpha = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f));
     const float cos_b_after = sl_after(cos_b, sin_alpha);
     const float tan_beta = sqrt(fmax(1.0f - cos_b_after * cos_b_after, 0.0f)) / cos_b;
-    const float f = mc->c[0] + mc->c[1] * fmax(PhiR, 0.0f) * sin_alpha * tan_beta;
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = k->A + k->B * fmax(PhiR, 0.0f) * sin_alpha * tan_beta;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
@@ -240,7 +247,7 @@ SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // Slips against the paper: 0.57 for 0.33 in A (A nearer 1), and gamma = sin(theta_i) sin(theta_r) cos(dphi)
 // where the paper has cos(dphi): the B term is scaled by sin(theta_i) sin(theta_r) <= 1. Angles from the raw
 // dot products (a view below the horizon gives angle(N, V) > 90 deg, as the slides' formulas do).
-// sin(alpha), tan(beta) from the cosines (exact; see seed 003 for why not acos/tan). c[0] = A, c[1] = B.
+// sin(alpha), tan(beta) from the cosines (exact; see seed 003 for why not acos/tan). Constants: OrenNayarConsts.
 SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
@@ -249,7 +256,8 @@ SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float cos_a = fmin(NoL, NoV);
     const float cos_b = fmax(NoL, NoV);   // >= NoL > 0 where used
     const float C = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f)) * (sqrt(fmax(1.0f - cos_b * cos_b, 0.0f)) / cos_b);
-    const float f = mc->c[0] + mc->c[1] * fmax(gamma, 0.0f) * C;
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = k->A + k->B * fmax(gamma, 0.0f) * C;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
@@ -260,7 +268,7 @@ SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 //   value = albedo * NoL * (A + B t sin(a) tan(b)),  A, B the paper's (from "rough" = sigma, radians)
 // The 0.95 ("prevent tangens from shooting to inf") bounds tan(b) by tan(0.95 pi/2) = 12.7, at the cost of
 // a darker B term everywhere. Angles via atan2(|N x W|, N.W) (= acos, accurate near 0); Blender's
-// normalize_v3 returns a zero vector for a zero input, so t = 0 at L or V = N. c[0] = A, c[1] = B.
+// normalize_v3 returns a zero vector for a zero input, so t = 0 at L or V = N. Constants: OrenNayarConsts.
 SL_INLINE sl_v3 ON_normalize_or_zero(sl_v3 v) {
     const float d2 = sl_dot(v, v);
     return sl_scale(v, d2 > 1e-30f ? rsqrt(d2) : 0.0f);
@@ -279,7 +287,8 @@ SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float t = fmax(sl_dot(Lt, Vt), 0.0f);
     const float a = fmax(lit_a, view_a);
     const float b = 0.95f * fmin(lit_a, view_a);
-    const float f = mc->c[0] + mc->c[1] * t * sin(a) * tan(b);
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = k->A + k->B * t * sin(a) * tan(b);
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
@@ -292,7 +301,7 @@ SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // of the non-diffuse to the diffuse term), normalised at NoV = 0 (the maximum of the non-diffuse term):
 //   A = 1 / (pi + (pi/2 - 2/3) sigma'),  B = sigma' A
 // so value = pi f_r NoL = albedo * NoL * (1 + sigma' s/t) / (1 + (1/2 - 2/(3 pi)) sigma').
-// This is "FON", the single-scattering lobe of EON. c[0] = pi A, c[1] = pi B.
+// This is "FON", the single-scattering lobe of EON. Constants: OrenNayarConsts (A = pi A, B = pi B).
 SL_INLINE float ON_s_over_t(float s, float NoL, float NoVc) { return s > 0.0f ? s / fmax(NoL, NoVc) : s; }
 
 SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
@@ -300,7 +309,8 @@ SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __con
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    const float f = mc->c[0] + mc->c[1] * st;
+    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const float f = k->A + k->B * st;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
 
@@ -308,19 +318,20 @@ SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __con
 //   pi A = 1 - 0.5 sigma^2/(sigma^2+0.33) + 0.17 albedo sigma^2/(sigma^2+0.13),  pi B = 0.45 sigma^2/(sigma^2+0.09)
 //   value = albedo * NoL * (pi A + pi B s / t)
 // The albedo inside A is the full model's interreflection term with its angular factor dropped. Not energy
-// conserving (Fujii: violated for albedo > 0.97). c[0] = x, c[1] = y, c[2] = z: pi A = x + albedo y, pi B = z.
+// conserving (Fujii: violated for albedo > 0.97). Constants: OrenNayarAlbedoConsts: pi A = A + albedo A_rho, pi B = B.
 // One channel, rho NoL (x + rho y + z s/t) for albedo rho; 0 for NoL <= 0.
-SL_INLINE float ON_fujii_full_channel(float rho, float NoL, float st, __constant const ModelConsts* mc) {
-    return NoL > 0.0f ? rho * NoL * (mc->c[0] + rho * mc->c[1] + mc->c[2] * st) : 0.0f;
+SL_INLINE float ON_fujii_full_channel(float rho, float NoL, float st, __constant const OrenNayarAlbedoConsts* k) {
+    return NoL > 0.0f ? rho * NoL * (k->A + rho * k->A_rho + k->B * st) : 0.0f;
 }
 SL_INLINE sl_rgb oren_nayar_fujii_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    return sl_rgb_make(ON_fujii_full_channel(mc->albedo[0], NoL, st, mc),
-                       ON_fujii_full_channel(mc->albedo[1], NoL, st, mc),
-                       ON_fujii_full_channel(mc->albedo[2], NoL, st, mc));
+    __constant const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
+    return sl_rgb_make(ON_fujii_full_channel(mc->albedo[0], NoL, st, k),
+                       ON_fujii_full_channel(mc->albedo[1], NoL, st, k),
+                       ON_fujii_full_channel(mc->albedo[2], NoL, st, k));
 }
 
 // ---- EON: energy-preserving Oren-Nayar -----------------------------------------------------------------------
@@ -338,7 +349,7 @@ SL_INLINE sl_rgb oren_nayar_fujii_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, 
 //   f_ms = (rho_ms/pi) r AF (c1 - G_o/pi)(c1 - G_i/pi) / (c1 - c2)
 // which is exactly 0 at r = 0 (the paper's listing guards 0/0 with max(1e-7, .) and so adds 1e-7 there), and
 // sin(theta)/mu (1 - sin(theta)^3) = sin(theta) mu (1 + S + S^2)/(1 + S), S = sin(theta) (no 0/0 at mu = 0).
-// c[0] = AF, c[1] = r, c[2] = Ebar, c[3] = r AF / (c1 - c2), c[4] = c1 (all computed on the host in double).
+// Constants: EonConsts (AF, r, Ebar, k_ms = r AF / (c1 - c2), c1; all computed on the host in double).
 
 // G(mu)/pi for the exact FON albedo (G(1) = 0, G(0)/pi = c1).
 SL_INLINE float E_FON_G_over_pi(float mu) {
@@ -355,8 +366,8 @@ SL_INLINE float E_FON_G_over_pi_approx(float mu) {
 }
 
 // One channel of EON's value, NoL (f_ss + f_ms) for albedo rho (st = s/t, g_i, g_o = G/pi at NoL, NoV).
-SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o, __constant const ModelConsts* mc) {
-    const float AF = mc->c[0], r = mc->c[1], Ebar = mc->c[2], k_ms = mc->c[3], c1 = mc->c[4];
+SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o, __constant const EonConsts* k) {
+    const float AF = k->AF, r = k->r, Ebar = k->Ebar, k_ms = k->k_ms, c1 = k->c1;
     const float f_ss = rho * (AF * (1.0f + r * st));
     // 1 - albedo (1 - Ebar) >= Ebar > 0.83 for albedo <= 1; the floor only matters for albedo > 5.9, where the
     // series behind rho_ms diverges (non-physical input), and keeps the value finite there.
@@ -373,9 +384,10 @@ SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o
 SL_INLINE sl_rgb EON_value(float NoL, float NoV, float s, float g_i, float g_o, __constant const ModelConsts* mc) {
     // NoL <= 0: the value is 0 (EON_channel's factor); st is set to 0 there, as s / t divides by 0 when NoV <= 0 too.
     const float st = NoL > 0.0f ? ON_s_over_t(s, NoL, fmax(NoV, 0.0f)) : 0.0f;
-    return sl_rgb_make(EON_channel(mc->albedo[0], NoL, st, g_i, g_o, mc),
-                       EON_channel(mc->albedo[1], NoL, st, g_i, g_o, mc),
-                       EON_channel(mc->albedo[2], NoL, st, g_i, g_o, mc));
+    __constant const EonConsts* k = SL_CONSTS(EonConsts, mc);
+    return sl_rgb_make(EON_channel(mc->albedo[0], NoL, st, g_i, g_o, k),
+                       EON_channel(mc->albedo[1], NoL, st, g_i, g_o, k),
+                       EON_channel(mc->albedo[2], NoL, st, g_i, g_o, k));
 }
 
 SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {

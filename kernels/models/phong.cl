@@ -17,6 +17,7 @@
 #define SHADELAB_MODEL_PHONG_CL
 #include "common.cl"
 #include "lambert.cl"   // Fd_Lambert_cos: max(0, NoL)
+#include "consts/phong.h"
 
 // ---- terms ----------------------------------------------------------------------------------------
 
@@ -48,24 +49,26 @@ SL_INLINE float Spec_Gate(float NoL) { return NoL > 0.0f ? 1.0f : 0.0f; }
 // ---- Phong (Phong 1975, "Illumination for computer generated pictures", CACM 18(6)) ----------------
 
 // phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, RoV)^n
-// c[0] = n in [0, 10000], c[1] = ks in [0, 10]. Leaves out: energy conservation (the lobe is not
+// PhongConsts: n in [0, 10000], ks in [0, 10]. Leaves out: energy conservation (the lobe is not
 // normalised and carries no NoL), reciprocity, Fresnel. Not reciprocal: value / NoL has RoV^n / NoL.
 SL_INLINE sl_rgb phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
-    const float spec = mc->c[1] * Spec_Gate(NoL) * Spec_Power(RoV, mc->c[0]);
+    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const float spec = k->ks * Spec_Gate(NoL) * Spec_Power(RoV, k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
 // phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, RoV)^(gloss / 4)
 // Seed 001 exactly: the highlight is not gated, so a light below the horizon lights up points where
-// RoV > 0. c[0] = n = gloss / 4 (host), c[1] = specular_power.
+// RoV > 0. PhongConsts: n = gloss / 4 (host), ks = specular_power.
 SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
-    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), mc->c[1] * Spec_Power(RoV, mc->c[0]));
+    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), k->ks * Spec_Power(RoV, k->n));
 }
 
 // phong_normalized: the modified Phong BRDF (Lewis 1994, "Making shaders more physically plausible";
@@ -73,34 +76,37 @@ SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 //   value = (1 - ks) * albedo * max(0, NoL) + ks * specular * (n + 2) / 2 * max(0, RoV)^n * max(0, NoL).
 // The lobe's directional albedo is exactly 1 at V = N and less elsewhere, so the model conserves
 // energy for albedo, specular <= 1 and any ks in [0, 1] (Lafortune's kd + ks <= 1 built in).
-// Reciprocal (value / NoL is symmetric). c[0] = n, c[1] = 1 - ks, c[2] = ks (n + 2) / 2 (host).
+// Reciprocal (value / NoL is symmetric). PhongNormalizedConsts: n, kd = 1 - ks, lobe_scale = ks (n + 2) / 2 (host).
 SL_INLINE sl_rgb phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
     const float cosine = Fd_Lambert_cos(NoL);
-    return sl_diffuse_specular(mc, mc->c[1] * cosine, mc->c[2] * Spec_Power(RoV, mc->c[0]) * cosine);
+    __constant const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
+    return sl_diffuse_specular(mc, k->kd * cosine, k->lobe_scale * Spec_Power(RoV, k->n) * cosine);
 }
 
 // ---- Blinn-Phong (Blinn 1977, "Models of light reflection for computer synthesized pictures") ------
 
 // blinn_phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, NoH)^n
-// c[0] = n in [0, 10000], c[1] = ks in [0, 10]. (Seed 001 names the N.H variable "NdotV".)
+// PhongConsts: n in [0, 10000], ks in [0, 10]. (Seed 001 names the N.H variable "NdotV".)
 // NoH^(4n) has about the width of RoV^n near the peak, hence the seed's gloss vs gloss / 4.
 SL_INLINE sl_rgb blinn_phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    const float spec = mc->c[1] * Spec_Gate(NoL) * Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
+    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const float spec = k->ks * Spec_Gate(NoL) * Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
 // blinn_phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, NoH)^gloss
-// Seed 001 exactly (ungated). c[0] = n = gloss, c[1] = specular_power.
+// Seed 001 exactly (ungated). PhongConsts: n = gloss, ks = specular_power.
 SL_INLINE sl_rgb blinn_phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                           __constant const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    const float spec = mc->c[1] * Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
+    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const float spec = k->ks * Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
 
@@ -109,22 +115,23 @@ SL_INLINE sl_rgb blinn_phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
 //   K_n = (n + 2)(n + 4) / (8 (2^(-n/2) + n)),
 // which makes the lobe's directional albedo exactly 1 at V = N (less elsewhere):
 //   value = (1 - ks) * albedo * max(0, NoL) + ks * specular * K_n * max(0, NoH)^n * max(0, NoL).
-// c[0] = n, c[1] = 1 - ks, c[2] = ks K_n (host). Reciprocal (H is symmetric in L, V).
+// PhongNormalizedConsts: n, kd = 1 - ks, lobe_scale = ks K_n (host). Reciprocal (H is symmetric in L, V).
 SL_INLINE sl_rgb blinn_phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                              __constant const ModelConsts* mc) {
     (void)P;
     const float cosine = Fd_Lambert_cos(sl_dot(N, L));
-    const float lobe = Spec_Power(BlinnPhong_NoH(N, L, V), mc->c[0]);
-    return sl_diffuse_specular(mc, mc->c[1] * cosine, mc->c[2] * lobe * cosine);
+    __constant const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
+    const float lobe = Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
+    return sl_diffuse_specular(mc, k->kd * cosine, k->lobe_scale * lobe * cosine);
 }
 
 // blinn_phong_normalized_approx: the same with the common approximation K_n = (n + 8) / 8 (the
 // (n + 8) / (8 pi) factor of Akenine-Moller, Haines, Hoffman, Real-Time Rendering 3rd ed., 2008).
 // It is NOT energy conserving: it exceeds the exact K_n for every n > 0 and the lobe's directional
-// albedo at V = N reaches 1.074 at n = 11 (measured in tests/test_phong.cpp). c[2] = ks (n + 8) / 8.
+// albedo at V = N reaches 1.074 at n = 11 (measured in tests/test_phong.cpp). lobe_scale = ks (n + 8) / 8.
 SL_INLINE sl_rgb blinn_phong_normalized_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
                                                     __constant const ModelConsts* mc) {
-    return blinn_phong_normalized_eval(N, L, V, P, mc);   // same form; only the host's c[2] differs
+    return blinn_phong_normalized_eval(N, L, V, P, mc);   // same form; only the host's lobe_scale differs
 }
 
 #endif

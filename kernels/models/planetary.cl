@@ -1,6 +1,6 @@
 // Planetary photometry: the disc-resolved laws of airless bodies as USGS ISIS3 defines them (its photometric
-// models Lommel-Seeliger, Lunar-Lambert, McEwen's Lunar-Lambert, Hapke with Henyey-Greenstein or Legendre
-// phase functions), written from the papers. docs/photometry.md has the formulas, the parameters in ISIS's
+// models McEwen's Lunar-Lambert, Hapke with Henyey-Greenstein or Legendre phase functions; Lommel-Seeliger and
+// Lunar-Lambert are their own family, kernels/models/lunar_lambert.cl, on this file's terms), written from the papers. docs/photometry.md has the formulas, the parameters in ISIS's
 // names and shadelab's, the measured kernel-vs-reference errors and every difference from ISIS.
 //
 // Value convention (docs/notation.md): value = pi f_r NoL, a white Lambert surface lit head-on gives 1. That is
@@ -20,6 +20,7 @@
 #ifndef SHADELAB_MODEL_PLANETARY_CL
 #define SHADELAB_MODEL_PLANETARY_CL
 #include "common.cl"
+#include "consts/planetary.h"
 
 #define PHO_PI 3.14159265358979323846f
 
@@ -140,10 +141,10 @@ SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, floa
 
 // ISIS's two-term Henyey-Greenstein phase function (HapkeHen):
 //   P(g) = (1 - c) (1 - b^2) / (1 + b^2 + 2 b cos g)^(3/2) + c (1 - b^2) / (1 + b^2 - 2 b cos g)^(3/2),
-// b = Hg1, c = Hg2. c[9] = (1 - |b|)^2, c[10] = 2|b|, c[11] = 1 if b >= 0, c[12] = 1 - b^2, c[13] = c, c[14] = 1 - c.
-SL_INLINE float Hapke_P_HG2(float t, __constant const ModelConsts* mc) {
-    const float a = mc->c[9], two_abs_b = mc->c[10], b_pos_flag = mc->c[11], one_minus_b2 = mc->c[12];
-    const float c = mc->c[13], one_minus_c = mc->c[14];
+// b = Hg1, c = Hg2. HapkeHG2Consts: a = (1 - |b|)^2, two_abs_b = 2|b|, b_positive = 1 if b >= 0, 1 - b^2, c, 1 - c.
+SL_INLINE float Hapke_P_HG2(float t, __constant const HapkeHG2Consts* hg) {
+    const float a = hg->a, two_abs_b = hg->two_abs_b, b_pos_flag = hg->b_positive, one_minus_b2 = hg->one_minus_b2;
+    const float c = hg->c, one_minus_c = hg->one_minus_c;
     const float opc = Pho_one_plus_cos_g(t), omc = Pho_one_minus_cos_g(t);
     const int b_pos = b_pos_flag != 0.0f;
     const float first = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? opc : omc);    // + 2 b cos g
@@ -184,7 +185,7 @@ SL_INLINE float Pho_one_minus_exp_neg(float x) {
 // Hapke (1984) macroscopic roughness: the effective cosines mu0e, mue and the shadowing function S(i, e, psi)
 // (eqs. 46-51, the i <= e and i > e cases), ISIS's formulation; the law is the smooth one at mu0e, mue times S.
 // Returns S (0 where both effective cosines are 0) and sets *mu0e, *mue.
-// c[5] = chi, c[6] = tan(theta), c[7] = (2/pi) cot(theta), c[8] = (1/pi) cot^2(theta).
+// HapkeConsts: chi, tan_t = tan(theta), k1 = (2/pi) cot(theta), k2 = (1/pi) cot^2(theta).
 // Float care: the denominators 2 - E1(e) - (psi/pi) E1(i) are formed as the sum of the non-negative terms
 // (1 - E1(e)) + (1 - psi/pi) + (psi/pi)(1 - E1(i)), with 1 - psi/pi = (2/pi) atan(1/tan(psi/2)): written as the
 // paper has them they cancel to nothing (and change sign in float) where theta-bar -> 90 deg and psi -> 180 deg.
@@ -227,13 +228,13 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     return some ? S : 0.0f;
 }
 
-// Hapke's model with either phase function: c[0] = w/4, c[1] = gamma = sqrt(1 - w), c[2] = B0 (0 if h = 0),
-// c[3] = 1/h (0 if h = 0), c[4] = 1 for a rough surface (theta > 0), else the smooth law (ISIS: theta <= 0).
+// Hapke's model with either phase function (HapkeConsts): w_over_4 = w/4, gamma = sqrt(1 - w), b0 = B0 (0 if
+// h = 0), inv_h = 1/h (0 if h = 0), rough = 1 for a rough surface (theta > 0), else the smooth law (ISIS: theta <= 0).
 // Every constant is read before any choice is made: a load under a condition is one PoCL's vectorised work-item
 // loop cannot hoist (kernels/shade.cl), and both laws are formed and one selected.
-SL_INLINE float Hapke_value(sl_pho g, float P, __constant const ModelConsts* mc) {
-    const float w_over_4 = mc->c[0], gamma = mc->c[1], b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
-    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
+SL_INLINE float Hapke_value(sl_pho g, float P, __constant const HapkeConsts* k) {
+    const float w_over_4 = k->w_over_4, gamma = k->gamma, b0 = k->b0, inv_h = k->inv_h, rough_flag = k->rough;
+    const float chi = k->chi, tan_t = k->tan_t, k1 = k->k1, k2 = k->k2;
     const float B = Hapke_B(g.tan_half_g, b0, inv_h);
     const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
     float mu0e, mue;
@@ -285,58 +286,54 @@ SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K
 }
 
 // ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
+// (lommel_seeliger and lunar_lambert, which use this file's geometry and terms, are their own family:
+// kernels/models/lunar_lambert.cl.)
 
-// lommel_seeliger: 2 mu0 / (mu0 + mu). No parameters.
-SL_INLINE float lommel_seeliger_pho(sl_pho g, __constant const ModelConsts* mc) {
-    (void)mc;
-    return Pho_visible(g) ? Pho_LommelSeeliger(g.mu0, g.mu) : 0.0f;
-}
-
-// lunar_lambert: mu0 ((1 - L) + 2 L / (mu0 + mu)). c[0] = L.
-SL_INLINE float lunar_lambert_pho(sl_pho g, __constant const ModelConsts* mc) {
-    return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, mc->c[0]) : 0.0f;
-}
-
-// lunar_lambert_mcewen: Lunar-Lambert with McEwen's L(g). c[0..2] = M1, M2, M3.
+// lunar_lambert_mcewen: Lunar-Lambert with McEwen's L(g). McEwenConsts: m1, m2, m3.
 SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
+    __constant const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
+    const float L = Pho_McEwen_L(Pho_phase_deg(g), k->m1, k->m2, k->m3);
     return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, L) : 0.0f;
 }
 
 // lunar_lambert_mcewen_ratio: what ISIS's LunarLambertMcEwen returns, the normalising ratio
-//   R30 / r(g, i, e),  r = Lunar-Lambert with L(g),  R30 = r(30, 30, 0) (c[3], computed on the host);
-// 0 where r <= 0 (ISIS). r is floored at 1e-3 (c[4]), capping the ratio at 1000 R30 (ISIS divides by r as it
+//   R30 / r(g, i, e),  r = Lunar-Lambert with L(g),  R30 = r(30, 30, 0) (McEwenConsts.r30, computed on the
+// host); 0 where r <= 0 (ISIS). r is floored at 1e-3 (r_floor), capping the ratio at 1000 R30 (ISIS divides by r as it
 // is, and the ratio grows without bound at the terminator); the floor acts where mu0 < ~1e-3 (i > 89.94 deg) or
 // where McEwen's L(g) < 0 brings r itself near 0.
 SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float r30 = mc->c[3], r_floor = mc->c[4];
-    const float L = Pho_McEwen_L(Pho_phase_deg(g), mc->c[0], mc->c[1], mc->c[2]);
+    __constant const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
+    const float r30 = k->r30, r_floor = k->r_floor;
+    const float L = Pho_McEwen_L(Pho_phase_deg(g), k->m1, k->m2, k->m3);
     const float r = Pho_LunarLambert(g.mu0, g.mu, L);
     return Pho_visible(g) && r > 0.0f ? r30 / fmax(r, r_floor) : 0.0f;
 }
 
 // hapke_hen: Hapke with the two-term Henyey-Greenstein phase function (ISIS HapkeHen).
 SL_INLINE float hapke_hen_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float v = Hapke_value(g, Hapke_P_HG2(g.tan_half_g, mc), mc);
+    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+    const float v = Hapke_value(g, Hapke_P_HG2(g.tan_half_g, &k->phase.hg2), k);
     return Pho_visible(g) ? v : 0.0f;
 }
 
-// hapke_leg: Hapke with the Legendre phase function (ISIS HapkeLeg). c[9] = b (Bh), c[10] = c (Ch).
+// hapke_leg: Hapke with the Legendre phase function (ISIS HapkeLeg). HapkeConsts.phase.legendre: b (Bh), c (Ch).
 SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float bh = mc->c[9], ch = mc->c[10];
-    const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, bh, ch), mc);
+    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+    const float bh = k->phase.legendre.b, ch = k->phase.legendre.c;
+    const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, bh, ch), k);
     return Pho_visible(g) ? v : 0.0f;
 }
 
 // hapke_2012: Hapke's 2002/2012 refinements - the 2002 H function, porosity K, coherent backscatter - with the
-// 1986 shadow-hiding surge, the 1984 roughness and ISIS's two-term Henyey-Greenstein P(g) (c[9..14] as hapke_hen).
-// c[0] = w/4 (unused: w is c[15]), c[1] = gamma, c[2..8] as hapke_hen, c[15] = w, c[16] = r0, c[17] = K,
-// c[18] = B_C0, c[19] = 1/h_C (0: no coherent backscatter).
+// 1986 shadow-hiding surge, the 1984 roughness and ISIS's two-term Henyey-Greenstein P(g) (phase.hg2 as hapke_hen).
+// HapkeConsts: w_over_4 unused (w is read), b0 .. k2 as hapke_hen, w, r0, K, bc0 = B_C0, inv_hc = 1/h_C (0: no
+// coherent backscatter).
 SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
-    const float b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
-    const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
-    const float w = mc->c[15], r0 = mc->c[16], K = mc->c[17], bc0 = mc->c[18], inv_hc = mc->c[19];
-    const float P = Hapke_P_HG2(g.tan_half_g, mc);
+    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+    const float b0 = k->b0, inv_h = k->inv_h, rough_flag = k->rough;
+    const float chi = k->chi, tan_t = k->tan_t, k1 = k->k1, k2 = k->k2;
+    const float w = k->w, r0 = k->r0, K = k->K, bc0 = k->bc0, inv_hc = k->inv_hc;
+    const float P = Hapke_P_HG2(g.tan_half_g, &k->phase.hg2);
     const float B_SH = Hapke_B(g.tan_half_g, b0, inv_h), B_CB = Hapke_BC(g.tan_half_g, bc0, inv_hc);
     const float smooth = Hapke2012_smooth(g.mu0, g.mu, w, r0, K, B_SH, B_CB, P);
     float mu0e, mue;
@@ -351,8 +348,6 @@ SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
         (void)P;                                                                                              \
         return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), mc));                                \
     }
-PHO_CATALOGUE_EVAL(lommel_seeliger)
-PHO_CATALOGUE_EVAL(lunar_lambert)
 PHO_CATALOGUE_EVAL(lunar_lambert_mcewen)
 PHO_CATALOGUE_EVAL(lunar_lambert_mcewen_ratio)
 PHO_CATALOGUE_EVAL(hapke_hen)

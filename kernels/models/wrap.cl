@@ -10,6 +10,7 @@
 #ifndef SHADELAB_MODEL_WRAP_CL
 #define SHADELAB_MODEL_WRAP_CL
 #include "common.cl"
+#include "consts/wrap.h"
 
 // ---- terms ----------------------------------------------------------------------------------------
 
@@ -63,28 +64,31 @@ SL_INLINE sl_rgb half_lambert_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, _
 }
 
 // wrap: value = albedo * max(0, NoL * a + (1 - a))^2, NoL unclamped, a = wrap_value in [0.5, 1]
-// (c[0] = a, c[1] = 1 - a). a = 0.5: half_lambert; a = 1: max(0, NoL)^2 (narrower than Lambert).
+// (WrapConsts: a, one_minus_a = 1 - a). a = 0.5: half_lambert; a = 1: max(0, NoL)^2 (narrower than Lambert).
 SL_INLINE sl_rgb wrap_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    return sl_albedo_times(mc, Fd_WrapSquared(NoL, mc->c[0], mc->c[1]));
+    __constant const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
+    return sl_albedo_times(mc, Fd_WrapSquared(NoL, k->a, k->one_minus_a));
 }
 
 // wrap_seed001: value = albedo * (max(0, NoL) * a + (1 - a))^2 -- the seed's code applied to the wrap
-// formula: NoL clamped first, so the back side gets a flat (1 - a)^2. (c[0] = a, c[1] = 1 - a.)
+// formula: NoL clamped first, so the back side gets a flat (1 - a)^2. (WrapConsts, as wrap.)
 SL_INLINE sl_rgb wrap_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    return sl_albedo_times(mc, Fd_WrapSquared(fmax(NoL, 0.0f), mc->c[0], mc->c[1]));
+    __constant const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
+    return sl_albedo_times(mc, Fd_WrapSquared(fmax(NoL, 0.0f), k->a, k->one_minus_a));
 }
 
-// wrap_energy: value = albedo * saturate((NoL + w) / (1 + w)^2) (Filament's Fd_Wrap; c[0] = w,
-// c[1] = 1 / (1 + w)^2). Directional albedo over the sphere of light directions: exactly 1 for every w;
+// wrap_energy: value = albedo * saturate((NoL + w) / (1 + w)^2) (Filament's Fd_Wrap; WrapEnergyConsts: w,
+// inv_sq = 1 / (1 + w)^2). Directional albedo over the sphere of light directions: exactly 1 for every w;
 // over the upper hemisphere (1 + 2w) / (1 + w)^2 <= 1. Leaves out: reciprocity, any V dependence.
 SL_INLINE sl_rgb wrap_energy_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    return sl_albedo_times(mc, Fd_Wrap(NoL, mc->c[0], mc->c[1]));
+    __constant const WrapEnergyConsts* k = SL_CONSTS(WrapEnergyConsts, mc);
+    return sl_albedo_times(mc, Fd_Wrap(NoL, k->w, k->inv_sq));
 }
 
 #endif
