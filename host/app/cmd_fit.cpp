@@ -76,15 +76,15 @@ void run_fit(const FitArgs& a) {
                        ends_with(a.over, ".tiff") || ends_with(a.over, ".fits") || ends_with(a.over, ".fit");
     const bool aov = image && !a.scene.empty();
     if (!a.scene.empty() && !image)
-        throw Error("--scene names the scene of a rendered --over IMAGE.exr; to fit over a scene's fragments use --over SCENE.json");
+        throw UsageError("--scene names the scene of a rendered --over IMAGE.exr; to fit over a scene's fragments use --over SCENE.json");
     if (!aov && (!a.normal.empty() || !a.depth.empty()))
-        throw Error("--normal and --depth are the AOVs of a batch render: give them with --over IMAGE.exr --scene SCENE.json");
+        throw UsageError("--normal and --depth are the AOVs of a batch render: give them with --over IMAGE.exr --scene SCENE.json");
     if (aov && a.phase >= 0.0)
-        throw Error("--over " + a.over + " --scene: the scene's lights and camera give the geometry, drop --phase");
+        throw UsageError("--over " + a.over + " --scene: the scene's lights and camera give the geometry, drop --phase");
     if (image) {
         if (!a.target.empty()) throw Error("--over " + a.over + ": the image is the target, drop --target");
         if (a.phase < 0.0 && !aov)
-            throw Error("--over " + a.over + ": give --scene SCENE.json for a batch render with normal and depth AOVs, "
+            throw UsageError("--over " + a.over + ": give --scene SCENE.json for a batch render with normal and depth AOVs, "
                         "or the sun's --phase (degrees) and --pa of a disc image");
     } else if (a.target.empty()) {
         throw Error("give the target model with --target MODEL (shadelab models lists them)");
