@@ -3,7 +3,8 @@
 //                kernel and reference evaluations, and kernel evaluations per second of device time, next to
 //                the single-model throughput of the two models' shading kernels (what bench_models measures);
 //   --all        every catalogue model fitted to the same target, with the same figures (target: under ~10 s
-//                on 2 cores; a miss prints "MISS").
+//                on 2 cores; a miss prints "MISS" with the process's CPU time: on a shared machine the wall
+//                time shows the load, and CPU time / 2 is the best two free cores could do).
 // Each run is done twice and the second is reported: the first builds the models' programs (PoCL's compile,
 // cached on disk in ~/.cache/pocl afterwards), which is not fitting.
 //
