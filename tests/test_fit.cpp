@@ -10,12 +10,16 @@
 #include <set>
 #include <sstream>
 
+#include "core/error.hpp"
 #include "fit/all.hpp"
 #include "fit/fit.hpp"
 #include "fit/report.hpp"
 #include "reference/reference.hpp"
+#include "scene/batch.hpp"
 #include "scene/scene.hpp"
 #include "image/image.hpp"
+#include "mesh/mesh.hpp"
+#include "raster/raster.hpp"
 #include "moon/disc.hpp"
 #include "speed/pareto.hpp"
 #include "support.hpp"
@@ -71,6 +75,19 @@ double independent_rel_rms(const fit::Domain& d, const Material& target, const M
         den += t * t;
     }
     return std::sqrt(num / den);
+}
+
+// Renders a scene file with the batch renderer into `out` (its outputs: colour EXR and AOVs). True on success.
+bool render_with_batch(const std::string& scene_file, const std::string& out) {
+    std::ostringstream log;
+    BatchOptions bo;
+    bo.out_dir = out;
+    bo.progress = ProgressStyle::Lines;
+    bo.log = &log;
+    bo.scenes = {scene_file};
+    const bool ok = run_batch(bo, test::runtime()).ok == 1;
+    if (!ok) WARN(log.str());
+    return ok;
 }
 
 }  // namespace
@@ -484,4 +501,139 @@ TEST_CASE("fit over a disc image: the model a disc was rendered with comes back 
     const fit::FitResult g = fit::fit_model(p, fit::shape_for("minnaert_1941", p.target_material(), -1.0, nullptr));
     CHECK(g.error.at("rel-rms") > 0.01);
     CHECK(std::isfinite(param(g, "k")));
+}
+
+TEST_CASE("fit over a batch render with normal and depth AOVs: the model it was rendered with comes back",
+          "[modelfit]") {
+    // Model A (oren_nayar sigma 0.5, grey albedo 0.8) rendered by the batch with a directional and a point light
+    // and ambient, colour EXR plus the normal and depth AOVs.
+    const std::filesystem::path dir = test::scratch_dir("fit_aov");
+    const std::string scene_file = (dir / "aov.json").string();
+    std::ofstream(scene_file)
+        << "{ \"name\": \"aov\", \"camera\": { \"view_from\": [0.4, 0.3, 1] }, \"resolution\": [96, 72], "
+        << "\"meshes\": [ { \"path\": \"" << test::kMeshes << "/spot.obj\", \"material\": { \"model\": \"oren_nayar\", "
+        << "\"params\": { \"sigma\": 0.5 }, \"albedo\": [0.8, 0.8, 0.8] } } ], "
+        << "\"lights\": [ { \"type\": \"directional\", \"direction\": [1, 1.2, 1], \"intensity\": 0.8 }, "
+        << "{ \"type\": \"point\", \"position\": [-2, 1.5, 2], \"colour\": [0.4, 0.6, 1.0], \"intensity\": 6 } ], "
+        << "\"ambient\": [0.02, 0.02, 0.025], "
+        << "\"outputs\": { \"exr\": \"{name}.exr\", \"normal\": \"{name}_normal.exr\", \"depth\": \"{name}_depth.exr\" } }\n";
+    REQUIRE(render_with_batch(scene_file, (dir / "out").string()));
+    const std::string image = (dir / "out" / "aov.exr").string();
+    std::vector<double> values;
+    fit::Domain d = fit::aov_image_domain({image, scene_file, "", ""}, values);   // AOVs: the scene's outputs
+    REQUIRE(d.grouped());
+    REQUIRE(d.per_group == 2);
+    REQUIRE(values.size() == d.outputs());
+
+    // The geometry the AOVs give is the rasteriser's own: every fragment's P and N, recomputed here by
+    // rasterising the scene, against the domain's (same pixel order: row-major).
+    const Scene scene = load_scene(scene_file, SceneLoadOptions{(dir / "out").string(), ""});
+    const SceneGeometry g = load_scene_geometry(scene, [](const std::string& p) { return load_mesh(p); });
+    RasterOptions ro;
+    ro.width = scene.width;
+    ro.height = scene.height;
+    const FragmentBuffer fb = rasterize(g.meshes[0], g.camera, ro);
+    REQUIRE(fb.size() * 2 == d.size());
+    double p_err = 0.0, n_err = 0.0;
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+        p_err = std::max(p_err, glm::length(glm::dvec3(fb.px[i], fb.py[i], fb.pz[i]) - d.P[2 * i]));
+        n_err = std::max(n_err, glm::length(glm::dvec3(fb.nx[i], fb.ny[i], fb.nz[i]) - d.N[2 * i]));
+    }
+    INFO("max |P_aov - P_raster| " << p_err << ", max |N_aov - N_raster| " << n_err);
+    CHECK(p_err <= 1e-4 * glm::length(g.camera.eye - g.camera.target));
+    CHECK(n_err <= 1e-6);
+
+    fit::Problem p(test::runtime(), std::move(d), std::move(values), image);
+    const Material start = target_of("lambert");   // the fitted model's albedo before its scale: 0.8
+    // Model A back: sigma and the albedo to float rounding of the pixels.
+    const fit::FitResult a = fit::fit_model(p, fit::shape_for("oren_nayar", start, -1.0, nullptr));
+    INFO(fit::to_text(a));
+    CHECK(std::abs(param(a, "sigma") - 0.5) <= 1e-4);
+    CHECK(std::abs(a.albedo - 0.8) <= 1e-4);
+    CHECK(a.error.at("rel-rms") <= 1e-5);
+    CHECK(a.error.at("de2000-max") <= 1e-3);
+
+    // Model B (minnaert_1941): a non-zero error, the one an independent recomputation finds: the references'
+    // own light sum (ref::shade_point) at the rasterised fragments, against the EXR's pixels.
+    const fit::FitResult b = fit::fit_model(p, fit::shape_for("minnaert_1941", start, -1.0, nullptr));
+    INFO(fit::to_text(b));
+    REQUIRE(std::isfinite(b.error.at("rel-rms")));
+    CHECK(b.error.at("rel-rms") > 1e-3);
+    Material fm;
+    fm.model = "minnaert_1941";
+    fm.albedo = glm::dvec3(b.albedo);
+    fm.params["k"] = param(b, "k");
+    fm = resolve_material(fm);
+    const Image colour = read_image(image);
+    double num = 0.0, den = 0.0;
+    for (std::size_t i = 0; i < fb.size(); ++i) {
+        const glm::dvec3 P(fb.px[i], fb.py[i], fb.pz[i]), N(fb.nx[i], fb.ny[i], fb.nz[i]);
+        const glm::dvec3 f = ref::shade_point(P, N, glm::normalize(g.camera.eye - P), fm, scene.lights, scene.ambient);
+        const int px = fb.pixel[i] % colour.width, py = fb.pixel[i] / colour.width;
+        for (int c = 0; c < 3; ++c) {
+            const double t = colour.at(px, py, c);
+            num += (f[c] - t) * (f[c] - t);
+            den += t * t;
+        }
+    }
+    const double independent = std::sqrt(num / den);
+    INFO("independent rel-rms " << independent);
+    CHECK(std::abs(independent - b.error.at("rel-rms")) <= 1e-3 * b.error.at("rel-rms"));
+}
+
+TEST_CASE("fit over a batch render: an image without the AOVs it needs is refused in one line", "[modelfit]") {
+    const std::filesystem::path dir = test::scratch_dir("fit_aov_bad");
+    const std::string scene_file = (dir / "s.json").string();
+    std::ofstream(scene_file)
+        << "{ \"name\": \"s\", \"resolution\": [32, 24], \"meshes\": [ { \"path\": \"" << test::kMeshes
+        << "/spot.obj\" } ], \"lights\": [ { \"type\": \"directional\", \"direction\": [1, 1, 1] } ], "
+        << "\"outputs\": { \"exr\": \"{name}.exr\", \"normal\": \"{name}_normal.exr\", \"depth\": \"{name}_depth.exr\" } }\n";
+    REQUIRE(render_with_batch(scene_file, (dir / "out").string()));
+    const std::string out = (dir / "out").string();
+    std::vector<double> v;
+    auto message = [&](const fit::AovImageOptions& o) {
+        try {
+            fit::aov_image_domain(o, v);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    using Catch::Matchers::Contains;
+    // The AOVs missing: named, with what to do.
+    std::filesystem::remove(out + "/s_normal.exr");
+    const std::string missing = message({out + "/s.exr", scene_file, "", ""});
+    CHECK_THAT(missing, Contains("normal AOV") && Contains("s_normal.exr") && Contains("--normal"));
+    // The colour image given as the normal AOV: not unit normals; as the depth AOV: four channels.
+    CHECK_THAT(message({out + "/s.exr", scene_file, out + "/s.exr", ""}), Contains("not a normal AOV"));
+    CHECK_THAT(message({out + "/s.exr", scene_file, out + "/s.exr", out + "/s.exr"}), Contains("not a depth AOV"));
+    CHECK_THAT(message({out + "/s.exr", scene_file, "", out + "/s.exr"}), Contains("normal AOV"));
+    // A scene that writes no depth AOV, and no --depth.
+    const std::string no_depth = (dir / "nodepth.json").string();
+    std::ofstream(no_depth) << "{ \"name\": \"s\", \"resolution\": [32, 24], \"meshes\": [ { \"path\": \"" << test::kMeshes
+                            << "/spot.obj\" } ], \"lights\": [ { \"type\": \"directional\", \"direction\": [1, 1, 1] } ], "
+                            << "\"outputs\": { \"exr\": \"{name}.exr\" } }\n";
+    CHECK_THAT(message({out + "/s.exr", no_depth, out + "/s.exr", ""}), Contains("no depth AOV") && Contains("--depth"));
+    CHECK(missing.find('\n') == std::string::npos);
+}
+
+TEST_CASE("fit evaluator: a material asked for again is not evaluated again, and gets the same values", "[modelfit]") {
+    fit::Evaluator ev(test::runtime(), hemisphere(4096));
+    const Material a = target_of("oren_nayar", {{"sigma", 0.3}}), b = target_of("oren_nayar", {{"sigma", 0.31}});
+    const std::vector<double> va = ev.reference(a);
+    const std::size_t one = ev.reference_evaluations();
+    REQUIRE(one == 4096);
+    const std::vector<double> vb = ev.reference(b);
+    CHECK(ev.reference_evaluations() == 2 * one);
+    CHECK(vb != va);
+    CHECK(ev.reference(a) == va);   // kept: no evaluation
+    CHECK(ev.reference_evaluations() == 2 * one);
+    Material c = a;                 // another albedo is another material
+    c.albedo = glm::dvec3(0.5);
+    const std::vector<double> vc = ev.reference(c);
+    CHECK(ev.reference_evaluations() == 3 * one);
+    double sa = 0.0, sc = 0.0;     // oren_nayar (the qualitative model) is linear in its albedo
+    for (std::size_t i = 0; i < 4096; ++i) sa += va[i], sc += vc[i];
+    REQUIRE(sa > 0.0);
+    CHECK(std::abs(sc / sa - 0.5 / 0.8) <= 1e-12);
 }

@@ -46,6 +46,8 @@ struct FitArgs {
     std::string centre;                // disc images: x,y in pixels
     double radius = -1.0;
     double pa = 0.0;
+    std::string scene;                 // an EXR with AOVs: the scene file it was rendered from
+    std::string normal, depth;         // its AOVs (default: the scene's outputs next to the image)
 };
 
 std::map<std::string, double> params_of(const std::vector<std::string>& ps) {
@@ -72,9 +74,18 @@ void run_fit(const FitArgs& a) {
     };
     const bool image = ends_with(a.over, ".png") || ends_with(a.over, ".exr") || ends_with(a.over, ".tif") ||
                        ends_with(a.over, ".tiff") || ends_with(a.over, ".fits") || ends_with(a.over, ".fit");
+    const bool aov = image && !a.scene.empty();
+    if (!a.scene.empty() && !image)
+        throw UsageError("--scene names the scene of a rendered --over IMAGE.exr; to fit over a scene's fragments use --over SCENE.json");
+    if (!aov && (!a.normal.empty() || !a.depth.empty()))
+        throw UsageError("--normal and --depth are the AOVs of a batch render: give them with --over IMAGE.exr --scene SCENE.json");
+    if (aov && a.phase >= 0.0)
+        throw UsageError("--over " + a.over + " --scene: the scene's lights and camera give the geometry, drop --phase");
     if (image) {
         if (!a.target.empty()) throw Error("--over " + a.over + ": the image is the target, drop --target");
-        if (a.phase < 0.0) throw Error("--over " + a.over + ": give the sun's --phase (degrees) and --pa of the disc image");
+        if (a.phase < 0.0 && !aov)
+            throw UsageError("--over " + a.over + ": give --scene SCENE.json for a batch render with normal and depth AOVs, "
+                        "or the sun's --phase (degrees) and --pa of a disc image");
     } else if (a.target.empty()) {
         throw Error("give the target model with --target MODEL (shadelab models lists them)");
     }
@@ -83,7 +94,7 @@ void run_fit(const FitArgs& a) {
     const bool scene = a.over != "hemisphere" && !image;
     if (scene && !ends_with(a.over, ".json"))
         throw Error("--over '" + a.over + "': give hemisphere, a scene file (.json) or a disc image (.png .exr .tif .fits)");
-    const std::vector<std::string> metrics = scene ? std::vector<std::string>{"rel-rms", "de2000-mean", "de2000-p99", "de2000-max"}
+    const std::vector<std::string> metrics = scene || aov ? std::vector<std::string>{"rel-rms", "de2000-mean", "de2000-p99", "de2000-max"}
                                                    : std::vector<std::string>{"rel-rms"};
     if (std::find(metrics.begin(), metrics.end(), a.metric) == metrics.end()) {
         std::string list;
@@ -114,7 +125,8 @@ void run_fit(const FitArgs& a) {
         io.phase_deg = a.phase;
         io.pa_deg = a.pa;
         std::vector<double> values;
-        fit::Domain d = fit::disc_image_domain(io, values);
+        fit::Domain d = aov ? fit::aov_image_domain({a.over, a.scene, a.normal, a.depth}, values)
+                            : fit::disc_image_domain(io, values);
         problem_ptr = std::make_unique<fit::Problem>(rt, std::move(d), std::move(values), a.over, parse_precision(a.precision));
         target = problem_ptr->target_material();
         target.albedo = glm::dvec3(a.albedo);
@@ -182,8 +194,9 @@ void add_fit_command(CLI::App& app) {
     cmd->add_option("--models", a->models, "With --all: only these models, comma-separated")->delimiter(',');
     cmd->add_option("--over", a->over,
                     "Domain of the fit: hemisphere (N = +z, L and V uniform in solid angle), SCENE.json (the fragments "
-                    "the scene renders, with its lights) or a disc IMAGE (with --phase, --pa, --centre, --radius: the "
-                    "image is the target)")
+                    "the scene renders, with its lights), a batch render IMAGE.exr with --scene (its normal and depth "
+                    "AOVs give N and P; the pixels are the target) or a disc IMAGE (with --phase, --pa, --centre, "
+                    "--radius: the image is the target)")
         ->capture_default_str();
     cmd->add_option("--metric", a->metric,
                     "Error --all sorts by: rel-rms = sqrt(sum (fit - target)^2 / sum target^2); on a scene also "
@@ -199,6 +212,12 @@ void add_fit_command(CLI::App& app) {
     cmd->add_option("--radius", a->radius, "Disc image: radius in pixels (default: 0.45 of the smaller side)");
     cmd->add_option("--pa", a->pa, "Disc image: position angle of the sun, degrees from image up towards image left")
         ->capture_default_str();
+    cmd->add_option("--scene", a->scene,
+                    "With --over IMAGE.exr: the scene file it was rendered from (camera, size, lights, ambient)");
+    cmd->add_option("--normal", a->normal,
+                    "With --scene: the normal AOV (default: the scene's outputs.normal in the image's folder)");
+    cmd->add_option("--depth", a->depth,
+                    "With --scene: the depth AOV (default: the scene's outputs.depth in the image's folder)");
     cmd->add_option("--min-cos", a->min_cos, "Only samples with NoL and NoV >= C")->capture_default_str();
     cmd->add_option("--albedo", a->albedo, "Grey albedo of the target (and of the fitted model, before its free scale)")
         ->capture_default_str();

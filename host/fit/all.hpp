@@ -18,7 +18,7 @@ struct AllOptions {
     double model_specular = -1.0;           // < 0: the target's
     std::string out_dir;                    // table and chart; empty: none written
     std::string metric = "rel-rms";         // the error the table is sorted by and the chart plots
-    std::size_t timed_fragments = std::size_t(1) << 20;
+    std::size_t timed_fragments = std::size_t(1) << 18;
     int timing_repeats = 3;
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <cmath>
 #include <random>
@@ -173,6 +174,20 @@ Domain Domain::prefix(std::size_t samples) const {
     return c;
 }
 
+void add_fragment(Domain& d, const glm::dvec3& P, const glm::dvec3& N, const glm::dvec3& eye,
+                  const std::vector<Light>& lights) {
+    const glm::dvec3 V = glm::normalize(eye - P);
+    for (const Light& li : lights) {
+        glm::dvec3 L;
+        const double atten = ref::light_incident(li, P, L);
+        d.N.push_back(N);
+        d.L.push_back(L);
+        d.V.push_back(V);
+        d.P.push_back(P);
+        d.weight.push_back(li.colour * li.intensity * atten);
+    }
+}
+
 Domain scene_domain(const std::string& file, std::uint64_t seed) {
     const Scene s = load_scene(file);
     if (s.lights.empty()) throw Error("scene '" + file + "' has no light: a fit over it needs at least one");
@@ -210,16 +225,7 @@ Domain scene_domain(const std::string& file, std::uint64_t seed) {
         const glm::dvec3 P(f.px[i], f.py[i], f.pz[i]);
         glm::dvec3 N(f.nx[i], f.ny[i], f.nz[i]);
         N = glm::length(N) > 0 ? glm::normalize(N) : glm::dvec3(0, 0, 1);
-        const glm::dvec3 V = glm::normalize(eye - P);
-        for (const Light& li : s.lights) {
-            glm::dvec3 L;
-            const double atten = ref::light_incident(li, P, L);
-            d.N.push_back(N);
-            d.L.push_back(L);
-            d.V.push_back(V);
-            d.P.push_back(P);
-            d.weight.push_back(li.colour * li.intensity * atten);
-        }
+        add_fragment(d, P, N, eye, s.lights);
     }
     d.name = "scene " + file;
     d.description = std::to_string(frags.size()) + " fragments of scene '" + file + "' (" + std::to_string(s.width) +
@@ -257,6 +263,112 @@ Domain disc_image_domain(const DiscImageOptions& o, std::vector<double>& values)
     desc << d.size() << " disc pixels of '" << o.image << "' (centre " << disc.cx << "," << disc.cy << ", radius "
          << disc.radius << " px, phase " << o.phase_deg << " deg, position angle " << o.pa_deg
          << " deg): N the unit sphere under each pixel, V = +z, the pixel values the target";
+    d.description = desc.str();
+    return d;
+}
+
+namespace {
+
+// An AOV image read and checked: the path, what it is for messages, and its pixels.
+Image read_aov(const std::string& path, const std::string& what, const std::string& how) {
+    if (path.empty() || !std::filesystem::exists(path))
+        throw Error("fit --over: the " + what + " '" + path + "' does not exist: " + how);
+    return read_image(path);
+}
+
+void check_same_size(const Image& a, const std::string& pa, const Image& b, const std::string& pb) {
+    if (a.width != b.width || a.height != b.height)
+        throw Error("fit --over: '" + pb + "' is " + std::to_string(b.width) + "x" + std::to_string(b.height) + " but '" +
+                    pa + "' is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                    ": give the AOVs of the same render");
+}
+
+std::string at_pixel(const std::string& path, int x, int y) {
+    return "'" + path + "' pixel (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+}
+
+// The point at view-space depth `depth` on the ray through the centre of pixel (x, y), as the rasteriser
+// places fragments: NDC x = 2 (x + 0.5) / W - 1, y = 1 - 2 (y + 0.5) / H (row 0 the top), the view-space
+// direction (x tan(fov/2) aspect, y tan(fov/2), -1) has unit length along the camera axis.
+glm::dvec3 point_at_depth(const Camera& cam, int W, int H, int x, int y, double depth) {
+    const double t = std::tan(0.5 * cam.fov_y_deg * kPi / 180.0), aspect = double(W) / double(H);
+    const double nx = 2.0 * (double(x) + 0.5) / double(W) - 1.0, ny = 1.0 - 2.0 * (double(y) + 0.5) / double(H);
+    const glm::dmat3 to_world = glm::inverse(glm::dmat3(cam.view()));
+    return cam.eye + depth * (to_world * glm::dvec3(nx * t * aspect, ny * t, -1.0));
+}
+
+}  // namespace
+
+Domain aov_image_domain(const AovImageOptions& o, std::vector<double>& values) {
+    SceneLoadOptions lo;
+    lo.out_dir = std::filesystem::path(o.image).parent_path().string();
+    if (lo.out_dir.empty()) lo.out_dir = ".";
+    const Scene s = load_scene(o.scene, lo);
+    if (s.lights.empty()) throw Error("scene '" + o.scene + "' has no light: a fit over its render needs at least one");
+    const std::string normal_path = o.normal.empty() ? s.outputs.normal : o.normal;
+    const std::string depth_path = o.depth.empty() ? s.outputs.depth : o.depth;
+    const std::string render_hint = " (shadelab batch " + o.scene + " -o DIR writes it when the scene's outputs name ";
+    if (normal_path.empty())
+        throw Error("fit --over " + o.image + ": scene '" + o.scene + "' writes no normal AOV (outputs.normal): add one "
+                    "and render again, or give --normal FILE");
+    if (depth_path.empty())
+        throw Error("fit --over " + o.image + ": scene '" + o.scene + "' writes no depth AOV (outputs.depth): add one "
+                    "and render again, or give --depth FILE");
+    const Image colour = read_aov(o.image, "image", "give the linear colour EXR the batch wrote (outputs.exr)");
+    const Image normal = read_aov(normal_path, "normal AOV", "give --normal FILE" + render_hint + "\"normal\")");
+    const Image depth = read_aov(depth_path, "depth AOV", "give --depth FILE" + render_hint + "\"depth\")");
+    if (colour.channels < 3)
+        throw Error("fit --over: '" + o.image + "' has " + std::to_string(colour.channels) +
+                    " channel(s): a colour render (r, g, b) is the target, the AOVs go to --normal and --depth");
+    if (normal.channels != 4)
+        throw Error("fit --over: '" + normal_path + "' has " + std::to_string(normal.channels) +
+                    " channel(s), not a normal AOV (the batch writes x, y, z and coverage alpha)");
+    if (depth.channels != 1)
+        throw Error("fit --over: '" + depth_path + "' has " + std::to_string(depth.channels) +
+                    " channels, not a depth AOV (the batch writes one: view-space depth, 0 where no surface)");
+    check_same_size(colour, o.image, normal, normal_path);
+    check_same_size(colour, o.image, depth, depth_path);
+    if (colour.width != s.width || colour.height != s.height)
+        throw Error("fit --over: '" + o.image + "' is " + std::to_string(colour.width) + "x" + std::to_string(colour.height) +
+                    " but scene '" + o.scene + "' renders " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                    ": give the scene the image was rendered from");
+    // The camera: the scene's, over its meshes' bounds (a framed camera needs them).
+    const SceneGeometry g = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
+    const Camera& cam = g.camera;
+    Domain d;
+    d.per_group = s.lights.size();
+    d.ambient = s.ambient;
+    values.clear();
+    for (int y = 0; y < colour.height; ++y)
+        for (int x = 0; x < colour.width; ++x) {
+            const float z = depth.at(x, y, 0);
+            const glm::dvec3 n(normal.at(x, y, 0), normal.at(x, y, 1), normal.at(x, y, 2));
+            if (!std::isfinite(z) || z < 0.0f)
+                throw Error("fit --over: " + at_pixel(depth_path, x, y) + " has depth " + num(z) +
+                            ": a depth AOV holds distances >= 0 (0 where no surface)");
+            if (!(normal.at(x, y, 3) > 0.5f) || z == 0.0f) continue;   // no surface here
+            const double len = glm::length(n);
+            if (!(std::abs(len - 1.0) <= 1e-3))
+                throw Error("fit --over: " + at_pixel(normal_path, x, y) + " holds a normal of length " + num(len) +
+                            ": not a normal AOV (the batch writes unit world-space normals)");
+            glm::dvec3 rgb;
+            for (int c = 0; c < 3; ++c) {
+                rgb[c] = colour.at(x, y, c);
+                if (!std::isfinite(rgb[c]))
+                    throw Error("fit --over: " + at_pixel(o.image, x, y) + " is not finite: a render to fit holds finite colours");
+            }
+            add_fragment(d, point_at_depth(cam, colour.width, colour.height, x, y, z), n / len, cam.eye, s.lights);
+            for (int c = 0; c < 3; ++c) values.push_back(rgb[c]);
+        }
+    const std::size_t pixels = values.size() / 3;
+    if (pixels < 64)
+        throw Error("fit --over: '" + normal_path + "' covers only " + std::to_string(pixels) +
+                    " pixels (a fit needs at least 64): give the AOVs of a render that shows the meshes");
+    d.name = "image " + o.image;
+    std::ostringstream desc;
+    desc << pixels << " pixels of '" << o.image << "' (" << colour.width << "x" << colour.height << "), N from '"
+         << normal_path << "', P from the depth in '" << depth_path << "' on each pixel's ray, camera and "
+         << s.lights.size() << " light(s) of scene '" << o.scene << "': the rendered colours the target, per channel";
     d.description = desc.str();
     return d;
 }

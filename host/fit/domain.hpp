@@ -16,6 +16,8 @@
 
 #include <glm/glm.hpp>
 
+#include "models/material.hpp"
+
 namespace shadelab::fit {
 
 struct Domain {
@@ -39,6 +41,11 @@ struct Domain {
     // The first `samples` samples (whole groups) as a domain of their own.
     Domain prefix(std::size_t samples) const;
 };
+
+// Appends one rendered fragment to a scene-like domain: a sample per light (N unit, V = normalize(eye - P), L
+// and the weight colour x intensity x attenuation from ref::light_incident), as the shading kernel sees it.
+void add_fragment(Domain& d, const glm::dvec3& P, const glm::dvec3& N, const glm::dvec3& eye,
+                  const std::vector<Light>& lights);
 
 struct HemisphereOptions {
     std::size_t samples = 65536;
@@ -71,6 +78,24 @@ struct DiscImageOptions {
     double phase_deg = 0.0, pa_deg = 0.0;
 };
 Domain disc_image_domain(const DiscImageOptions& o, std::vector<double>& values);
+
+// An image the batch renderer wrote with its AOVs (docs/batch.md, `outputs`): the linear colour EXR
+// (outputs.exr) is the target, three outputs (r, g, b) per pixel covered in it and in the AOVs; the geometry
+// comes from the normal AOV (outputs.normal: world-space N, alpha = coverage) and the depth AOV (outputs.depth:
+// view-space depth along the camera axis), which with the scene's camera gives the position P on the pixel
+// centre's ray; V = normalize(eye - P); the scene's lights (one sample per pixel and light, weighted by colour x
+// intensity x attenuation at P) and ambient. The scene file says camera, size, lights and ambient: the AOVs
+// hold no camera. Empty `normal` / `depth`: the scene's own outputs.normal / outputs.depth, resolved against
+// the colour image's folder (where `shadelab batch -o DIR` put them). Throws shadelab::Error with one line
+// naming the file for a missing AOV, an image that is not one (wrong channel count, non-unit normals, negative
+// depth), sizes that differ from each other or from the scene's, a non-finite pixel, or fewer than 64 pixels.
+struct AovImageOptions {
+    std::string image;    // linear colour EXR
+    std::string scene;    // the scene file it was rendered from
+    std::string normal;   // normal AOV (empty: the scene's outputs.normal next to the image)
+    std::string depth;    // depth AOV (empty: the scene's outputs.depth next to the image)
+};
+Domain aov_image_domain(const AovImageOptions& o, std::vector<double>& values);
 
 // Angles of sample i for reports, degrees: theta_i = angle(N, L), theta_r = angle(N, V), phase = angle(L, V),
 // dphi = azimuth difference of L and V about N (0 when either is along N).

@@ -96,7 +96,42 @@ bool Evaluator::accepts(const Material& m) {
     }
 }
 
+namespace {
+
+// A material as numbers, children included (their model names go into `names`): equal keys, equal values.
+void material_key(const Material& m, std::vector<double>& key, std::string& names) {
+    names += m.model + ";";
+    for (const auto& [name, v] : m.params) {
+        names += name + ",";
+        key.push_back(v);
+    }
+    for (int c = 0; c < 3; ++c) key.push_back(m.albedo[c]), key.push_back(m.specular[c]);
+    key.push_back(double(m.children.size()));
+    for (const auto& ch : m.children) material_key(ch, key, names);
+}
+
+constexpr std::size_t kKeptReferences = 4;
+
+}  // namespace
+
 std::vector<double> Evaluator::reference(const Material& m) {
+    std::vector<double> key;
+    std::string names;
+    material_key(m, key, names);
+    for (auto it = kept_.begin(); it != kept_.end(); ++it)
+        if (it->model == names && it->key == key) {
+            Kept k = std::move(*it);
+            kept_.erase(it);
+            kept_.push_back(std::move(k));
+            return kept_.back().values;
+        }
+    std::vector<double> out = evaluate_reference(m);
+    if (kept_.size() >= kKeptReferences) kept_.erase(kept_.begin());
+    kept_.push_back(Kept{std::move(key), std::move(names), out});
+    return out;
+}
+
+std::vector<double> Evaluator::evaluate_reference(const Material& m) {
     if (observer) {
         const ModelInfo& info = find_model(m.model);
         std::vector<double> x;

@@ -41,7 +41,9 @@ public:
     // constrain them together: toon's thresholds ascend). The kernel gives NaN values for a refused set.
     static bool accepts(const Material& m);
     // Reference values of one material: 3 planes of size() doubles. Runs on the hardware threads (at most 8);
-    // the result does not depend on their number.
+    // the result does not depend on their number. The last few materials' values are kept: a fit asks again for
+    // the optimum it has just evaluated (its values, the numeric error of --all), and gets them without a second
+    // evaluation (the counter counts evaluations done).
     std::vector<double> reference(const Material& m);
     std::vector<double> reference(const ModelShape& shape, const std::vector<double>& x) {
         return reference(material_at(shape, x));
@@ -55,11 +57,18 @@ public:
     std::function<void(const std::string& model, const std::vector<double>& x)> observer;
 
 private:
+    std::vector<double> evaluate_reference(const Material& m);
     Shader shader_;
     Domain domain_;
     Precision precision_;
     Shader::DeviceSamples device_;
     std::size_t kernel_evals_ = 0, reference_evals_ = 0;
+    struct Kept {
+        std::vector<double> key;   // the material, as numbers (material_key)
+        std::string model;
+        std::vector<double> values;
+    };
+    std::vector<Kept> kept_;       // most recent last
     double kernel_ms_ = 0.0;
 };
 

@@ -457,7 +457,7 @@ Point search(Problem& problem, const ModelShape& shape, const Space& sp, const s
     const std::vector<double>& t_full = problem.target();
     const Problem::Prefix coarse = problem.prefix(o.coarse_samples),
                           mid = problem.prefix(float_only && sp.free_c.size() <= 4 ? full.size() : o.float_samples);
-    const std::size_t n = full.domain().outputs(), nc = coarse.ev->domain().outputs(), nm = mid.ev->domain().outputs();
+    const std::size_t n = full.domain().outputs(), nm = mid.ev->domain().outputs();
     const double tt = sum_sq(t_full.data(), n), tt_mid = sum_sq(mid.target->data(), nm);
     const ValuesFn Fk = kernel_values(*mid.ev, shape), Fr = reference_values(full, shape);
     std::vector<Point> starts;
@@ -468,18 +468,34 @@ Point search(Problem& problem, const ModelShape& shape, const Space& sp, const s
         if (sets.empty()) {
             starts.push_back(Point{base});
         } else {
-            const ValuesFn Fc = kernel_values(*coarse.ev, shape);
-            std::vector<Point> all;
-            for (std::size_t s0 = 0; s0 < sets.size(); s0 += 512) {
-                const std::vector<std::vector<double>> chunk(sets.begin() + s0,
-                                                             sets.begin() + std::min(sets.size(), s0 + 512));
-                const auto v = Fc(chunk);
-                for (std::size_t q = 0; q < chunk.size(); ++q) {
-                    const Scaled s = best_scale(v[q], coarse.target->data(), nc);
-                    all.push_back(Point{chunk[q], s.a, s.ssr});
+            // Every set's error on a prefix of the domain, best first.
+            auto ranked = [&](const Problem::Prefix& pre, const std::vector<std::vector<double>>& xs) {
+                const ValuesFn Fc = kernel_values(*pre.ev, shape);
+                const std::size_t np = pre.ev->domain().outputs();
+                std::vector<Point> pts;
+                for (std::size_t s0 = 0; s0 < xs.size(); s0 += 512) {
+                    const std::vector<std::vector<double>> chunk(xs.begin() + s0, xs.begin() + std::min(xs.size(), s0 + 512));
+                    const auto v = Fc(chunk);
+                    for (std::size_t q = 0; q < chunk.size(); ++q) {
+                        const Scaled s = best_scale(v[q], pre.target->data(), np);
+                        pts.push_back(Point{chunk[q], s.a, s.ssr});
+                    }
                 }
+                std::stable_sort(pts.begin(), pts.end(), [](const Point& a, const Point& b) { return a.ssr < b.ssr; });
+                return pts;
+            };
+            // Coarser, then finer: a large candidate list is screened on the first coarse_screen samples and only
+            // its best coarse_keep sets are ranked on coarse_samples (where the starts are picked, as before).
+            std::vector<Point> all;
+            const Problem::Prefix screen = problem.prefix(o.coarse_screen);
+            if (sets.size() > o.coarse_keep && screen.ev->size() < coarse.ev->size()) {
+                const std::vector<Point> first = ranked(screen, sets);
+                std::vector<std::vector<double>> kept;
+                for (std::size_t q = 0; q < first.size() && kept.size() < o.coarse_keep; ++q) kept.push_back(first[q].x);
+                all = ranked(coarse, kept);
+            } else {
+                all = ranked(coarse, sets);
             }
-            std::stable_sort(all.begin(), all.end(), [](const Point& a, const Point& b) { return a.ssr < b.ssr; });
             for (const auto& p : all) {
                 const std::size_t d = sp.free_c.size() + sp.free_i.size();
                 if (int(starts.size()) >= (d > 4 ? 2 : o.starts)) break;
@@ -943,12 +959,18 @@ void limb_check(const Optimum& z, const FitOptions& o, FitResult& r) {
                 }
             lc.sample_share = double(n_g) / double(n);
             lc.error_share = best.ssr > 0.0 ? ssr_g / best.ssr : 0.0;
-            if (g.full().size() >= 64) {
+            // The verdict needs both: the grazing samples over 3x their share AND the refit moving. Below that
+            // share the fit is not limb-driven whatever the refit would say, so it is not run (fit --all spends
+            // most of its kernel time on refits otherwise).
+            if (g.full().size() >= 64 && lc.error_share <= 3.0 * lc.sample_share) {
+                lc.done = true;
+            } else if (g.full().size() >= 64) {
                 FitOptions og = o;
                 og.limb_check = false;
                 Point start{best.x, best.a, std::numeric_limits<double>::infinity()};
                 const Point pg = search(g, shape, sp, base, og, &start, true);
                 lc.done = true;
+                lc.refitted = true;
                 lc.params = pg.x;
                 lc.albedo = pg.a * shape.albedo.x;
                 const double ttg = sum_sq(g.target().data(), g.full().size());

@@ -10,8 +10,8 @@
 //
 // Search, in the parameters mapped to [0, 1] (linearly; logarithmically for ranges over two decades):
 //  1. coarse: a grid (up to 3 parameters) or 2048 quasi-random points over the whole box, every integer value
-//     of a whole-number parameter (up to 512 of them), on the first 4096 samples, float kernel on PoCL, all
-//     sets in a few launches;
+//     of a whole-number parameter (up to 512 of them), screened on the first 1024 samples, the best 128 ranked
+//     on the first 4096, float kernel on PoCL, all sets in a few launches;
 //  2. bounded Levenberg-Marquardt from the best 2 distinct starts, float kernel on the first 16384 samples,
 //     central-difference Jacobians evaluated as one batch of parameter sets per iteration, trial steps for three
 //     damping values in one (over 4 parameters: at most 15 iterations);
@@ -43,6 +43,8 @@ struct FitOptions {
     double limb_cos = 0.05;          // the limb check's cut: NoL, NoV >= limb_cos
     int starts = 2;                  // distinct coarse minima refined (1 for more than 4 parameters)
     std::size_t coarse_samples = 4096;   // the coarse search runs on the domain's first samples
+    std::size_t coarse_screen = 1024;    // over coarse_keep coarse sets: all screened on this many samples first,
+    std::size_t coarse_keep = 128;       // the best coarse_keep of them ranked on coarse_samples
     std::size_t float_samples = 16384;   // and the float Levenberg-Marquardt on these (the polish on all)
     int float_iterations = 25;
     int double_iterations = 20;
@@ -120,11 +122,12 @@ struct WorstSample {
 };
 
 struct LimbCheck {
-    bool done = false;
+    bool done = false;           // the shares measured and the verdict made
+    bool refitted = false;       // the refit run (only when the error share is over 3x the sample share)
     double cos_min = 0.05;
     double sample_share = 0.0;   // share of the samples with NoL or NoV below cos_min
     double error_share = 0.0;    // their share of the squared residual
-    std::vector<double> params;  // refitted over the rest
+    std::vector<double> params;  // refitted over the rest (when refitted)
     double albedo = 0.0;
     double rel_rms = 0.0;        // of the refit, over the rest
     double max_shift = 0.0;      // largest |refit - fit| / range over the fitted parameters

@@ -58,9 +58,15 @@ nlohmann::json to_json(const FitResult& r) {
         nlohmann::json lp = nlohmann::json::object();
         for (std::size_t q = 0; q < r.params.size() && q < r.limb.params.size(); ++q) lp[r.params[q].name] = jnum(r.limb.params[q]);
         j["limb_check"] = {{"cos_min", r.limb.cos_min},           {"sample_share", jnum(r.limb.sample_share)},
-                           {"error_share", jnum(r.limb.error_share)}, {"params", lp},
-                           {"albedo", jnum(r.limb.albedo)},       {"rel-rms", jnum(r.limb.rel_rms)},
-                           {"max_shift", jnum(r.limb.max_shift)}, {"sensitive", r.limb.sensitive}};
+                           {"error_share", jnum(r.limb.error_share)}, {"refitted", r.limb.refitted},
+                           {"sensitive", r.limb.sensitive}};
+        if (r.limb.refitted) {
+            nlohmann::json& lc = j["limb_check"];
+            lc["params"] = lp;
+            lc["albedo"] = jnum(r.limb.albedo);
+            lc["rel-rms"] = jnum(r.limb.rel_rms);
+            lc["max_shift"] = jnum(r.limb.max_shift);
+        }
     }
     j["domain"] = {{"name", r.domain}, {"description", r.domain_description}, {"samples", r.samples}};
     j["kernel_evaluations"] = r.kernel_evaluations;
@@ -94,8 +100,10 @@ std::string to_text(const FitResult& r) {
       << num(r.worst.fit, 5) << "\n";
     if (r.limb.done)
         s << "  limb check: samples with NoL or NoV < " << r.limb.cos_min << " are " << num(100 * r.limb.sample_share, 3)
-          << "% of the domain and carry " << num(100 * r.limb.error_share, 3) << "% of the squared error; refit without "
-          << "them moves the parameters by " << num(100 * r.limb.max_shift, 3) << "% of their range"
+          << "% of the domain and carry " << num(100 * r.limb.error_share, 3) << "% of the squared error; "
+          << (r.limb.refitted ? "refit without them moves the parameters by " + num(100 * r.limb.max_shift, 3) +
+                                    "% of their range"
+                              : std::string("not over 3x their share: not limb-driven (no refit)"))
           << (r.limb.sensitive ? " (LIMB-SENSITIVE)" : "") << "\n";
     s << "  " << (r.well_posed ? "well posed" : "ILL-POSED") << "; "
       << (r.representable ? "representable" : "NOT REPRESENTABLE") << "\n";

@@ -279,7 +279,11 @@ std::string format_plan(const Plan& p, const PlanOptions& opt) {
                 s << (first ? "" : ", ") << name << "=" << std::setprecision(5) << v, first = false;
             s << ")\n";
         }
-    s << "planning took " << std::setprecision(4) << p.planning_ms << " ms\n";
+    s << "planning took " << std::setprecision(4) << p.planning_ms << " ms";
+    if (p.catalogue_searched)
+        s << " (catalogue search " << p.catalogue.planning_ms << " ms; verifying and timing the " << p.candidates.size()
+          << " configurations the rest)";
+    s << "\n";
     s << "(* chosen, x over tolerance; time = full-resolution shading: kernel device time, plus host interpolation for per-vertex)\n";
     return s.str();
 }

@@ -89,6 +89,10 @@ struct SubstitutionPlan {
     bool within = false;
     double requested_ms = 0.0, chosen_ms = 0.0, speedup = 1.0;   // full-resolution shading time, best of runs
     double planning_ms = 0.0;        // the whole search (fits, verifications, timings)
+    // Where it went: ranking the catalogue by kernel speed (its programs built on first use), fitting,
+    // verification (the frames rasterised, the reference, the requested and candidate renders compared),
+    // full-resolution timings.
+    double rank_ms = 0.0, fit_ms = 0.0, verify_ms = 0.0, timing_ms = 0.0;
     int verify_width = 0, verify_height = 0;
 };
 

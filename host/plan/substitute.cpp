@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <sstream>
 
 #include "color/image_compare.hpp"
@@ -104,16 +105,7 @@ fit::Domain item_domain(const Frame& f, std::size_t k, const PlanInput& in, std:
         const glm::dvec3 P(fb.px[i], fb.py[i], fb.pz[i]);
         glm::dvec3 N(fb.nx[i], fb.ny[i], fb.nz[i]);
         N = glm::length(N) > 0 ? glm::normalize(N) : glm::dvec3(0, 0, 1);
-        const glm::dvec3 V = glm::normalize(in.camera.eye - P);
-        for (const Light& li : in.lights) {
-            glm::dvec3 L;
-            const double atten = ref::light_incident(li, P, L);
-            d.N.push_back(N);
-            d.L.push_back(L);
-            d.V.push_back(V);
-            d.P.push_back(P);
-            d.weight.push_back(li.colour * li.intensity * atten);
-        }
+        fit::add_fragment(d, P, N, in.camera.eye, in.lights);
     }
     d.name = "item " + std::to_string(k);
     d.description = std::to_string(d.size() / std::max<std::size_t>(1, d.per_group)) + " visible fragments of mesh " +
@@ -123,10 +115,34 @@ fit::Domain item_domain(const Frame& f, std::size_t k, const PlanInput& in, std:
 
 double mean3(const glm::dvec3& v) { return (v.x + v.y + v.z) / 3.0; }
 
+double ms_since(clock_type::time_point t) {
+    return std::chrono::duration<double, std::milli>(clock_type::now() - t).count();
+}
+
+// A model's shading-kernel speed at its catalogue defaults on this device (Mfrag/s, a 32768-fragment buffer,
+// best of 3): it only ranks the candidates (the plan's own timings are at full resolution), so it is measured
+// once per process and device and kept (a batch plans every job with the same ranking).
+double ranking_speed(Runtime& rt, const std::string& model) {
+    static std::mutex mutex;
+    static std::map<std::string, double> kept;
+    const std::string key = rt.device_description() + "|" + model;
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (auto it = kept.find(key); it != kept.end()) return it->second;
+    }
+    Material m;
+    m.model = model;
+    add_demo_children(m, find_model(model));
+    const double v = fit::measure_mfrag_per_s(rt, resolve_material(m), std::size_t(1) << 15, 3);
+    std::lock_guard<std::mutex> lock(mutex);
+    return kept[key] = v;
+}
+
 }  // namespace
 
 SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const PlanOptions& opt) {
     const auto t0 = clock_type::now();
+    auto phase = clock_type::now();
     if (in_raw.items.empty()) throw Error("plan: the scene has no meshes");
     if (in_raw.lights.empty()) throw Error("plan: the catalogue search needs at least one light");
     PlanInput in = in_raw;
@@ -145,17 +161,9 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
         requested_planes.push_back(shade_item(shader, verify.fragments[k], in.items[k].material, in));
     }
     const Image reference = compose(verify, ref_planes);
+    plan.verify_ms += ms_since(phase);
 
-    // Every model's kernel speed once (a small buffer: this ranks the candidates, the plan itself is timed below).
-    std::map<std::string, double> speed;
-    auto speed_of = [&](const std::string& model) {
-        auto it = speed.find(model);
-        if (it != speed.end()) return it->second;
-        Material m;
-        m.model = model;
-        add_demo_children(m, find_model(model));
-        return speed[model] = fit::measure_mfrag_per_s(rt, resolve_material(m), std::size_t(1) << 17, 3);
-    };
+    auto speed_of = [&](const std::string& model) { return ranking_speed(rt, model); };
     // Full-resolution shading time of one mesh with material m: best of at least 3 runs and 10 ms.
     auto time_item = [&](std::size_t k, const Material& m) {
         double best = std::numeric_limits<double>::infinity(), spent = 0.0;
@@ -179,12 +187,14 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
             plan.items.push_back(s);
             continue;
         }
+        phase = clock_type::now();
         const double own = speed_of(req.model);
         std::vector<std::pair<double, std::string>> cands;
         for (const auto& info : model_catalogue())
             if (info.children == 0 && info.name != req.model && speed_of(info.name) >= 1.1 * own)
                 cands.push_back({speed_of(info.name), info.name});
         std::sort(cands.rbegin(), cands.rend());   // fastest first
+        plan.rank_ms += ms_since(phase);
         fit::Domain d = item_domain(verify, k, in, 4096);
         if (d.size() == 0) {
             plan.items.push_back(s);
@@ -196,8 +206,12 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
         fit::Problem problem(rt, std::move(d), grey);
         fit::FitOptions fo;
         fo.limb_check = false;
+        fo.starts = 1;   // every candidate is verified by rendering: one refined start is enough to rank it
         for (const auto& [sp, model] : cands) {
+            phase = clock_type::now();
             const fit::FitResult r = fit::fit_model(problem, fit::shape_for(model, grey, -1.0, nullptr), {}, fo);
+            plan.fit_ms += ms_since(phase);
+            phase = clock_type::now();
             ++s.tried;
             Material sub;
             sub.model = model;
@@ -208,10 +222,13 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
             auto planes = requested_planes;
             planes[k] = shade_item(shader, verify.fragments[k], sub, in);
             const double e = metric_of(compare_images(compose(verify, planes), reference, 1e-3), opt);
+            plan.verify_ms += ms_since(phase);
             if (e > opt.tolerance) continue;
             // Within the tolerance: chosen only if this mesh really shades faster at full resolution (5%: the
             // kernels' ranking above is on a small buffer, and timings on a shared machine jitter).
+            phase = clock_type::now();
             const double t_req = time_item(k, req), t_sub = time_item(k, sub);
+            plan.timing_ms += ms_since(phase);
             if (!(t_sub < 0.95 * t_req)) continue;
             s.chosen = sub;
             s.fit_rel_rms = r.error.at("rel-rms");
@@ -223,12 +240,15 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
         plan.items.push_back(s);
     }
     // The combination, verified and timed at full resolution.
+    phase = clock_type::now();
     {
         std::vector<std::vector<float>> planes;
         for (std::size_t k = 0; k < in.items.size(); ++k) planes.push_back(shade_item(shader, verify.fragments[k], chosen[k], in));
         plan.error = metric_of(compare_images(compose(verify, planes), reference, 1e-3), opt);
         plan.within = plan.error <= opt.tolerance;
     }
+    plan.verify_ms += ms_since(phase);
+    phase = clock_type::now();
     auto time_all = [&](const std::vector<Material>& ms) {
         double best = std::numeric_limits<double>::infinity(), spent = 0.0;
         for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
@@ -247,6 +267,7 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
     for (const auto& it : in.items) requested.push_back(it.material);
     plan.requested_ms = time_all(requested);
     plan.chosen_ms = time_all(chosen);
+    plan.timing_ms += ms_since(phase);
     plan.speedup = plan.chosen_ms > 0.0 ? plan.requested_ms / plan.chosen_ms : 1.0;
     plan.planning_ms = std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
     return plan;
@@ -276,7 +297,8 @@ std::string format_substitutions(const SubstitutionPlan& p, const PlanOptions& o
     }
     s << "  all together: " << metric << " " << p.error << (p.within ? " (within)" : " (OVER)") << "; shading "
       << std::setprecision(4) << p.chosen_ms << " ms against " << p.requested_ms << " ms requested: " << p.speedup
-      << "x; planning took " << p.planning_ms << " ms\n";
+      << "x; planning took " << p.planning_ms << " ms (ranking " << p.rank_ms << ", fits " << p.fit_ms
+      << ", verification " << p.verify_ms << ", timing " << p.timing_ms << ")\n";
     return s.str();
 }
 
