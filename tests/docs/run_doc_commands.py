@@ -212,10 +212,10 @@ def main():
             t0 = time.monotonic()
             try:
                 r = subprocess.run(["bash", "-c", cmd], cwd=tmp, env=env, stdin=subprocess.DEVNULL,
-                                   capture_output=True, text=True, timeout=300)
+                                   capture_output=True, text=True, timeout=900)
                 output, code = r.stdout + r.stderr, r.returncode
             except subprocess.TimeoutExpired:
-                output, code = "(timed out after 300 s)", -1
+                output, code = "(timed out after 900 s)", -1
             seconds = time.monotonic() - t0
             if seconds > 20:
                 print(f"slow ({where}): {seconds:.0f} s: {cmd.strip()}")
