@@ -192,12 +192,17 @@ SL_INLINE float Pho_one_minus_exp_neg(float x) {
 // a large tan(theta) term can round below 0), and the law is 0 where both are 0.
 SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, float k2, float* mu0e_out, float* mue_out) {
     // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
-    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
-    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
-    const float e1i = 1.0f - om1i, e1e = 1.0f - om1e;
-    const float e2i = Hapke_E2(cot_i, k2), e2e = Hapke_E2(cot_e, k2);
-    const float eta_i = Hapke_eta(g.mu0, g.sin_i, e1i, e2i, chi, tan_t);
-    const float eta_e = Hapke_eta(g.mu, g.sin_e, e1e, e2e, chi, tan_t);
+    // Every term of e is computed after the same term of i, and E2 after E1 (common.cl's sl_after): the two
+    // chains are isomorphic, and LLVM's SLP vectoriser would otherwise pack them into <2 x float>, which stops
+    // PoCL's work-item loop vectoriser (the kernel then runs one geometry at a time: docs/photometry.md, Speed).
+    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f);
+    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i);   // 1 - E1(i)
+    const float e2i = Hapke_E2(sl_after(cot_i, om1i), k2);
+    const float eta_i = Hapke_eta(g.mu0, g.sin_i, 1.0f - om1i, e2i, chi, tan_t);
+    const float cot_e = sl_after(g.mu, eta_i) / fmax(g.sin_e, 1.0e-10f);
+    const float om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1(e)
+    const float e2e = Hapke_E2(sl_after(cot_e, om1e), k2);
+    const float eta_e = Hapke_eta(g.mu, g.sin_e, 1.0f - om1e, e2e, chi, tan_t);
     // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
     const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
     const float c = (1.0f - t2) / (1.0f + t2);
@@ -212,9 +217,12 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
     const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
     const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
-    const float den_ei = om1i + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - (psi/pi) E1(e)
     const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t * (c * e2e + sin2_half_psi * e2i) / den_ie);
     const float mue_ie = chi * (g.mu + g.sin_e * tan_t * (e2e - sin2_half_psi * e2i) / den_ie);
+    // the i > e case after the i <= e case (the SLP vectoriser, as above), after min(|mue_ie|, 1): finite even
+    // where mue_ie is not (a zero denominator at theta-bar = 90, psi = 180), so it cannot make the other case NaN
+    const float after_ie = fmin(fabs(mue_ie), 1.0f);
+    const float den_ei = sl_after(om1i, after_ie) + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - ...
     const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
     const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
     const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f), mue = fmax(i_le_e ? mue_ie : mue_ei, 0.0f);
@@ -235,11 +243,11 @@ SL_INLINE float Hapke_value(sl_pho g, float P, __constant const ModelConsts* mc)
     const float w_over_4 = mc->c[0], gamma = mc->c[1], b0 = mc->c[2], inv_h = mc->c[3], rough_flag = mc->c[4];
     const float chi = mc->c[5], tan_t = mc->c[6], k1 = mc->c[7], k2 = mc->c[8];
     const float B = Hapke_B(g.tan_half_g, b0, inv_h);
-    const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
     float mu0e, mue;
     const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
-    const float rough = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
-    return rough_flag != 0.0f ? rough : smooth;
+    // the smooth law at (mu0e, mue) times S, or at (mu0, mu) times 1: one evaluation of it at the selected cosines
+    const int rough = rough_flag != 0.0f;
+    return Hapke_smooth(rough ? mu0e : g.mu0, rough ? mue : g.mu, w_over_4, gamma, B, P) * (rough ? S : 1.0f);
 }
 
 // ---- Hapke's 2002/2012 refinements (the variant hapke_2012) ----------------------------------------------------
@@ -338,11 +346,12 @@ SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
     const float w = mc->c[15], r0 = mc->c[16], K = mc->c[17], bc0 = mc->c[18], inv_hc = mc->c[19];
     const float P = Hapke_P_HG2(g.tan_half_g, mc);
     const float B_SH = Hapke_B(g.tan_half_g, b0, inv_h), B_CB = Hapke_BC(g.tan_half_g, bc0, inv_hc);
-    const float smooth = Hapke2012_smooth(g.mu0, g.mu, w, r0, K, B_SH, B_CB, P);
     float mu0e, mue;
     const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
-    const float rough = Hapke2012_smooth(mu0e, mue, w, r0, K, B_SH, B_CB, P) * S;
-    return Pho_visible(g) ? (rough_flag != 0.0f ? rough : smooth) : 0.0f;
+    const int rough = rough_flag != 0.0f;   // one evaluation at the selected cosines, as Hapke_value
+    const float v =
+        Hapke2012_smooth(rough ? mu0e : g.mu0, rough ? mue : g.mu, w, r0, K, B_SH, B_CB, P) * (rough ? S : 1.0f);
+    return Pho_visible(g) ? v : 0.0f;
 }
 
 // ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------
