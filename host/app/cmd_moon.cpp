@@ -547,6 +547,10 @@ void run_fit(const FitArgs& a) {
     check_fit_options(o);
     const std::string stem = stem_of(a.output);
     const std::size_t n = a.images.size();
+    if (a.law == "minnaert" && (!a.params.empty() || !a.free.empty()))
+        throw Error("moon fit: -p and --free go with a Hapke law (--law hapke_hen); the Minnaert fit has k and B0");
+    if (a.law != "minnaert" && (a.bins > 0 || a.grid > 0))
+        throw Error("moon fit: --bins and --grid are Minnaert k maps; they do not go with --law " + a.law);
     if (a.law != "minnaert") {   // a Hapke law, fitted to each image (moon/fit.hpp says what one image determines)
         photometry::FitSpec spec{a.law, {}, a.free.empty() ? std::vector<std::string>{} : split(a.free, ',')};
         for (const auto& p : a.params) spec.start.insert(parse_param(p));

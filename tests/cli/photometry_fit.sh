@@ -67,6 +67,9 @@ expect "moon fit not hapke" 1 "lunar_lambert is not a Hapke law" -- "$bin" moon 
 expect "moon fit unknown law" 1 "cannot be fitted: choose one of" -- "$bin" moon fit "${one[@]}" --law hapke_lol
 expect "moon fit bad start" 1 "-p wh=1.5 is out of range for hapke_hen" -- \
     "$bin" moon fit "${one[@]}" --law hapke_hen -p wh=1.5
+expect "moon fit hapke without k maps" 1 "--bins and --grid are Minnaert k maps" -- \
+    "$bin" moon fit "${one[@]}" --law hapke_hen --bins 4
+expect "moon fit minnaert without -p" 1 "-p and --free go with a Hapke law" -- "$bin" moon fit "${one[@]}" -p wh=0.3
 expect "moon fit minnaert as before" 0 "k  = " -- "$bin" moon fit "${one[@]}" --no-plot -o fit.csv
 
 echo "photometry_fit.sh: $passes passed, $fails failed"
