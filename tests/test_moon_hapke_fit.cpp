@@ -12,6 +12,7 @@
 #include "core/error.hpp"
 #include "moon/disc.hpp"
 #include "moon/fit.hpp"
+#include "fit_errors.hpp"
 #include "support.hpp"
 
 using namespace shadelab;
@@ -81,28 +82,19 @@ TEST_CASE("moon fit hapke: w, theta-bar and hg1 of a noise-free disc come back t
 
 TEST_CASE("moon fit hapke: with noise, the fitted parameters fall within the reported standard errors (4 seeds)",
           "[moon][fit][hapke]") {
-    int within1 = 0, total = 0;
+    test::StandardErrorTally t;
     for (std::uint64_t seed = 1; seed <= 4; ++seed) {
         const Disc d = render(40.0, 0.002, seed);
         const moon::HapkeDiscFit f = fit(d, {"hapke_hen", kHeld, {}});
         CHECK(f.fit.converged);
         CHECK(f.fit.rms == Approx(0.002).epsilon(0.05));   // the residual is the noise
-        for (const char* name : {"wh", "theta", "hg1"}) {
-            const auto& p = param(f.fit, name);
-            REQUIRE(p.stderr_ > 0.0);
-            const double z = (p.value - kTrue.at(name)) / p.stderr_;
-            std::cout << "seed " << seed << " " << name << ": " << p.value << " +- " << p.stderr_ << " (z " << z << ")\n";
-            INFO("seed " << seed << " " << name);
-            CHECK(std::abs(z) < 3.5);   // p(|z| > 3.5) = 5e-4 per parameter if the errors are right
-            within1 += std::abs(z) < 1.0;
-            ++total;
-        }
+        for (const char* name : {"wh", "theta", "hg1"}) t.add(param(f.fit, name), kTrue.at(name), seed);
     }
     // about 68% of 12 within one standard error if the errors are neither too small nor too large: 4 to 11 allowed
     // (all 12 has probability 0.68^12 = 1%; errors 3x too large would put all 12 within one)
-    std::cout << within1 << " of " << total << " within one standard error\n";
-    CHECK(within1 >= 4);
-    CHECK(within1 <= 11);
+    std::cout << t.within1 << " of " << t.total << " within one standard error\n";
+    CHECK(t.within1 >= 4);
+    CHECK(t.within1 <= 11);
 }
 
 TEST_CASE("moon fit hapke: b0 with hg1 from one image is reported as not determined", "[moon][fit][hapke]") {
