@@ -43,16 +43,21 @@ typedef struct {
 // cancellation).
 SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     sl_pho g;
-    const sl_v3 nl = sl_cross(N, L), nv = sl_cross(N, V);
+    // the V terms after the L terms, and tan(psi/2) after tan(g/2) (common.cl's sl_after): side by side they are
+    // what LLVM's SLP vectoriser packs into <2 x float>, which stops PoCL's work-item loop vectoriser
+    const sl_v3 nl = sl_cross(N, L);
     g.mu0 = sl_dot(N, L);
-    g.mu = sl_dot(N, V);
     g.sin_i = sl_length(nl);
+    const sl_v3 Va = sl_v3_make(sl_after(V.x, g.sin_i), V.y, V.z);
+    const sl_v3 nv = sl_cross(N, Va);
+    g.mu = sl_dot(N, Va);
     g.sin_e = sl_length(nv);
-    g.cos_g = sl_dot(L, V);
-    const sl_v3 d = sl_sub(L, V), s = sl_add(L, V);
+    g.cos_g = sl_dot(L, Va);
+    const sl_v3 d = sl_sub(L, Va), s = sl_add(L, Va);
     g.tan_half_g = fmin(sqrt(sl_dot(d, d) / sl_dot(s, s)), PHO_TAN_MAX);   // d/0 = inf, clamped (g = 180)
-    const sl_v3 pd = sl_sub(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
-    const sl_v3 ps = sl_add(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const float sin_e_after = sl_after(g.sin_e, g.tan_half_g);   // tan(g/2) <= PHO_TAN_MAX: finite
+    const sl_v3 pd = sl_sub(sl_scale(nl, sin_e_after), sl_scale(nv, g.sin_i));
+    const sl_v3 ps = sl_add(sl_scale(nl, sin_e_after), sl_scale(nv, g.sin_i));
     const float t_psi = fmin(sqrt(sl_dot(pd, pd) / sl_dot(ps, ps)), PHO_TAN_MAX);
     g.tan_half_psi = g.sin_i * g.sin_e > 0.0f ? t_psi : 0.0f;   // no azimuth along N: psi = 0 (ISIS)
     return g;
@@ -288,7 +293,8 @@ SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
 // H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
 SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
     const float inv_K = 1.0f / K;
-    const float M = Hapke_H2002(mu0 * inv_K, w, r0) * Hapke_H2002(mu * inv_K, w, r0) - 1.0f;
+    const float H0 = Hapke_H2002(mu0 * inv_K, w, r0);
+    const float M = H0 * Hapke_H2002(sl_after(mu, H0) * inv_K, w, r0) - 1.0f;   // H(mu) after H(mu0): sl_after
     return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
 }
 
