@@ -1,15 +1,23 @@
 // bench_photometry: Hapke (HapkeHen with roughness, ISIS's unit-test parameters) evaluations per second on PoCL
 // (kernels/photometry.cl, the `photometry eval` kernel) against a plain 2-thread C++ loop of the same formula in
 // float, and against the single-threaded double reference; then a 5-parameter Hapke fit (photometry fit) of one
-// 512x512 disc image. Prints figures, asserts nothing about speed.
-//   bench_photometry [--n N] [--smoke]
+// 512x512 disc image; also the PoCL throughput of the other planetary laws on the same rows. Prints figures, asserts
+// nothing about speed. Besides evaluations per (wall-clock) second, each PoCL row gives evaluations per CPU second
+// of this process (PoCL's threads included), which a loaded machine changes much less: on an idle machine with
+// 2 cores the wall-clock rate approaches twice it.
+//   bench_photometry [--n N] [--smoke] [--baseline-kernels DIR]
+// --baseline-kernels times the laws' kernels built from another kernels/ folder as well, in the same run, for a
+// before/after comparison (e.g. DIR from `git archive BASE kernels | tar -x -C SOMEWHERE`, then SOMEWHERE/kernels).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <memory>
 #include <random>
+#include <sys/resource.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -98,13 +106,68 @@ float hapke_cpp(const HapkeParams& p, float mu0, float mu, float si, float se, f
 
 double seconds(clock_type::time_point a, clock_type::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
+// User + system CPU seconds of this process so far (all threads).
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+struct KernelRun {
+    double rate = 0.0;       // evaluations per second, best of 5 launches
+    double cpu_rate = 0.0;   // evaluations per CPU second over the 5 launches
+    std::vector<float> out;
+};
+
+// The `photometry eval` kernel (kernels/photometry.cl eval_photometric) for `law` on device-resident rows (build
+// and upload excluded), 5 launches.
+KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
+    const std::size_t n = r.mu0.size();
+    const ModelInfo& info = find_model(law.material.model);
+    cl::Program prog = rt.build("photometry.cl", {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
+                                                  "SL_PHO_EVAL=" + law.material.model + "_pho"});
+    const auto consts = pack_material(law.material);
+    std::vector<cl::Buffer> in;
+    for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})
+        in.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
+                        const_cast<float*>(v->data()));
+    cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Buffer bc(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
+                  const_cast<ModelConsts*>(consts.data()));
+    cl::Kernel k(prog, "eval_photometric");
+    for (cl_uint i = 0; i < 7; ++i) k.setArg(i, in[i]);
+    k.setArg(7, out);
+    k.setArg(8, cl_uint(n));
+    k.setArg(9, bc);
+    // make_rows pads to a multiple of 256 (the kernel has no bounds check); the first launch compiles
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(256));
+    rt.queue().finish();
+    double best = 1e30;
+    const double c0 = cpu_seconds();
+    for (int rep = 0; rep < 5; ++rep) {
+        const auto t0 = clock_type::now();
+        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(256));
+        rt.queue().finish();
+        best = std::min(best, seconds(t0, clock_type::now()));
+    }
+    KernelRun run;
+    run.cpu_rate = 5.0 * double(n) / std::max(1e-9, cpu_seconds() - c0);
+    run.rate = double(n) / best;
+    run.out.resize(n);
+    rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), run.out.data());
+    return run;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     std::size_t n = std::size_t(1) << 24;
     bool smoke = false;
+    std::string baseline_dir;
     CLI::App app{"bench_photometry: Hapke on PoCL against a 2-thread C++ loop and the double reference"};
     app.add_flag("--smoke", smoke, "Tiny run for the test suite (4096 geometries), no timing claims");
+    app.add_option("--baseline-kernels", baseline_dir, "Also time the laws with the kernels of this folder (before/after)")
+        ->check(CLI::ExistingDirectory);
     app.add_option("--n", n, "Geometries per run")->check(CLI::Range(std::size_t(256), std::size_t(1) << 28));
     try {
         app.parse(argc, argv);
@@ -123,34 +186,10 @@ int main(int argc, char** argv) {
                 "cpu: %s\n",
                 n, bench::cpu_name().c_str());
 
-    // PoCL: the photometry kernel on device-resident arrays (build and upload excluded), best of 5.
     Runtime rt;
-    const ModelInfo& info = find_model("hapke_hen");
-    cl::Program prog = rt.build("photometry.cl", {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
-                                                  "SL_PHO_EVAL=hapke_hen_pho"});
-    const auto consts = pack_material(law.material);
-    std::vector<cl::Buffer> in;
-    for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})
-        in.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, n * sizeof(float),
-                        const_cast<float*>(v->data()));
-    cl::Buffer out(rt.context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-    cl::Buffer bc(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
-                  const_cast<ModelConsts*>(consts.data()));
-    cl::Kernel k(prog, "eval_photometric");
-    for (cl_uint i = 0; i < 7; ++i) k.setArg(i, in[i]);
-    k.setArg(7, out);
-    k.setArg(8, cl_uint(n));
-    k.setArg(9, bc);
-    const std::size_t global = n;   // make_rows pads to a multiple of 256 (the kernel has no bounds check)
-    double best_cl = 1e30;
-    for (int rep = 0; rep < 5; ++rep) {
-        const auto t0 = clock_type::now();
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(global), cl::NDRange(256));
-        rt.queue().finish();
-        best_cl = std::min(best_cl, seconds(t0, clock_type::now()));
-    }
-    std::vector<float> k_out(n);
-    rt.queue().enqueueReadBuffer(out, CL_TRUE, 0, n * sizeof(float), k_out.data());
+    const KernelRun kr = run_kernel(rt, r, law);
+    const std::vector<float>& k_out = kr.out;
+    const double best_cl = double(n) / kr.rate;
 
     // The C++ loop on 2 threads, best of 5.
     std::vector<float> c_out(n);
@@ -184,10 +223,39 @@ int main(int argc, char** argv) {
     }
     const double cl_rate = double(n) / best_cl, cpp_rate = double(n) / best_cpp, ref_rate = double(nr) / t_ref;
     std::printf("%-44s %12s %10s %14s\n", "", "evals/s", "vs C++", "max rel (20k)");
-    std::printf("%-44s %12.3g %10.2f %14.2g\n", "PoCL kernel (float)", cl_rate, cl_rate / cpp_rate, max_rel_k);
+    std::printf("%-44s %12.3g %10.2f %14.2g   (%.3g per CPU second)\n", "PoCL kernel (float)", cl_rate,
+                cl_rate / cpp_rate, max_rel_k, kr.cpu_rate);
     std::printf("%-44s %12.3g %10.2f %14.2g\n", "C++ loop, float, 2 threads (-O3 -march=native)", cpp_rate, 1.0, max_rel_c);
     std::printf("%-44s %12.3g %10.2f %14s\n", "double reference, 1 thread", ref_rate, ref_rate / cpp_rate, "-");
     std::printf("PoCL vs double reference: %.1fx   (checksum %.6g)\n", cl_rate / ref_rate, sink);
+
+    // The other laws' kernels on the same rows (ISIS's unit-test parameters where it has them).
+    std::unique_ptr<Runtime> base_rt;
+    if (!baseline_dir.empty()) base_rt = std::make_unique<Runtime>(RuntimeOptions{"", -1, baseline_dir});
+    std::printf("\nPoCL throughput of every photometric law on the same %zu rows%s:\n%-28s %12s %16s", n,
+                base_rt ? " (this tree's kernels, then the baseline's)" : "", "law", "evals/s", "evals/CPU-s");
+    if (base_rt) std::printf(" %14s %16s %8s", "baseline/s", "baseline/CPU-s", "speedup");
+    std::printf("\n");
+    const std::vector<std::pair<std::string, std::map<std::string, double>>> laws = {
+        {"lommel_seeliger", {}},
+        {"lunar_lambert", {{"l", 0.5}}},
+        {"lunar_lambert_mcewen", {}},
+        {"lunar_lambert_mcewen_ratio", {}},
+        {"hapke_hen", {{"wh", 0.52}, {"b0", 1.0}, {"hh", 1.0}, {"theta", 30.0}, {"hg1", 0.213}, {"hg2", 1.0}}},
+        {"hapke_leg", {{"wh", 0.52}, {"b0", 1.0}, {"hh", 1.0}, {"theta", 30.0}, {"bh", 0.0}, {"ch", 0.0}}},
+        {"hapke_2012", {{"wh", 0.52}, {"b0", 1.0}, {"hh", 1.0}, {"theta", 30.0}, {"hg1", 0.213}, {"phi", 0.41},
+                        {"bc0", 0.5}, {"hc", 0.05}}},
+    };
+    for (const auto& [name, params] : laws) {
+        const photometry::Law l = photometry::law_from_model(name, params);
+        const KernelRun run = run_kernel(rt, r, l);
+        std::printf("%-28s %12.3g %16.3g", name.c_str(), run.rate, run.cpu_rate);
+        if (base_rt) {
+            const KernelRun before = run_kernel(*base_rt, r, l);
+            std::printf(" %14.3g %16.3g %8.2f", before.rate, before.cpu_rate, run.cpu_rate / before.cpu_rate);
+        }
+        std::printf("\n");
+    }
 
     // A 5-parameter Hapke fit (wh, b0, hh, theta, hg1) of one disc image, 512x512 (smoke: 64x64), phase 30.
     // (smoke: the --smoke flag above)

@@ -14,6 +14,7 @@
 #include "moon/disc.hpp"
 #include "moon/fit.hpp"
 #include "photometry/fit.hpp"
+#include "fit_errors.hpp"
 #include "support.hpp"
 
 using namespace shadelab;
@@ -79,29 +80,19 @@ TEST_CASE("photometry fit: Hapke parameters of noise-free discs at five phases c
 
 TEST_CASE("photometry fit: with noise, Hapke's fitted parameters fall within the reported standard errors (4 seeds)",
           "[photometry][fit]") {
-    int within1 = 0, total = 0;
+    test::StandardErrorTally t;
     for (std::uint64_t seed = 1; seed <= 4; ++seed) {
         const photometry::FitData d = render_discs("hapke_hen", kHapke, 1.0, kPhases, 0.002, seed);
         const photometry::FitResult r = photometry::fit_law(test::runtime(), d, {"hapke_hen", {}, {}});
         CHECK(r.converged);
         // the residual is the noise: rms within 5% of sigma
         CHECK(r.rms == Approx(0.002).epsilon(0.05));
-        for (const auto& [name, want] : kHapke) {
-            const auto& p = param(r, name);
-            const double z = (p.value - want) / p.stderr_;
-            std::cout << "seed " << seed << " " << name << ": " << p.value << " +- " << p.stderr_ << " (true " << want
-                      << ", z " << z << ")\n";
-            INFO("seed " << seed << " " << name);
-            REQUIRE(p.stderr_ > 0.0);
-            CHECK(std::abs(z) < 3.5);   // p(|z| > 3.5) = 5e-4 per parameter if the errors are right
-            within1 += std::abs(z) < 1.0;
-            ++total;
-        }
+        for (const auto& [name, want] : kHapke) t.add(param(r, name), want, seed);
     }
     // about 68% within one standard error if they are neither too small nor too large: 20 draws, 8 to 19 allowed
-    std::cout << within1 << " of " << total << " within one standard error\n";
-    CHECK(within1 >= 8);
-    CHECK(within1 <= 19);
+    std::cout << t.within1 << " of " << t.total << " within one standard error\n";
+    CHECK(t.within1 >= 8);
+    CHECK(t.within1 <= 19);
 }
 
 TEST_CASE("photometry fit --models: the law the discs were rendered with ranks first by BIC", "[photometry][fit]") {

@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/limits.hpp"
+#include "core/text.hpp"
 #include "models/catalogue.hpp"
 #include "moon/disc.hpp"
 #include "moon/fit.hpp"
@@ -518,6 +519,8 @@ struct FitArgs {
     bool free_b0 = false;
     std::string output = "out/moon/fit.csv";
     bool no_plot = false;
+    std::string law = "minnaert", free;   // Hapke: moon/fit.hpp fit_hapke_disc
+    std::vector<std::string> params;
 };
 
 void print_fit(const MinnaertFit& f) {
@@ -544,6 +547,22 @@ void run_fit(const FitArgs& a) {
     check_fit_options(o);
     const std::string stem = stem_of(a.output);
     const std::size_t n = a.images.size();
+    if (a.law == "minnaert" && (!a.params.empty() || !a.free.empty()))
+        throw Error("moon fit: -p and --free go with a Hapke law (--law hapke_hen); the Minnaert fit has k and B0");
+    if (a.law != "minnaert" && (a.bins > 0 || a.grid > 0))
+        throw Error("moon fit: --bins and --grid are Minnaert k maps; they do not go with --law " + a.law);
+    if (a.law != "minnaert") {   // a Hapke law, fitted to each image (moon/fit.hpp says what one image determines)
+        photometry::FitSpec spec{a.law, {}, a.free.empty() ? std::vector<std::string>{} : split(a.free, ',')};
+        for (const auto& p : a.params) spec.start.insert(parse_param(p));
+        Runtime rt;
+        for (std::size_t i = 0; i < n; ++i) {
+            const LoadedImage li = load(a.images[i], a.geo, i, n);
+            const auto pixels = disc_pixels(li.img, li.geo.disc, li.geo.sun, a.geo.allow_partial);
+            std::cout << "image " << a.images[i] << ": " << geometry_text(li.geo) << "\n"
+                      << describe_hapke_disc_fit(fit_hapke_disc(rt, pixels, li.geo.sun, o, spec), li.geo.sun);
+        }
+        return;
+    }
     CsvTable summary({"image", "phase_deg", "pa_deg", "k", "se_k", "B0", "se_B0", "rms_ln", "rms_rel", "pixels"});
     std::vector<std::pair<std::string, MinnaertFit>> plots;
     struct Row { double phase, k, se_k, B0, se_B0; };
@@ -748,6 +767,9 @@ void add_moon_command(CLI::App& app) {
         c->add_option("--grid", a->grid, "Also fit k in the cells of an NxN grid over the disc (a k map)")
             ->capture_default_str();
         c->add_flag("--free-b0", a->free_b0, "Fit B0 as well in each bin/cell (default: hold the whole-disc B0)");
+        c->add_option("--law", a->law, "minnaert, or a Hapke law (hapke_hen, hapke_leg, hapke_2012) fitted on I")->capture_default_str();
+        c->add_option("--free", a->free, "Hapke: parameters to fit (default wh,theta,hg1; bh for hapke_leg)");
+        c->add_option("-p,--param", a->params, "Hapke: start / held value NAME=VALUE (repeatable)");
         c->add_option("-o,--output", a->output, "Summary CSV; the Minnaert plot goes to <name>-minnaert.csv/.png")
             ->capture_default_str();
         c->add_flag("--no-plot", a->no_plot, "Write the CSVs only");

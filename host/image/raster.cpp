@@ -77,6 +77,19 @@ std::unique_ptr<GDALDataset, Closer> open_raster(const std::string& file, const 
     return std::unique_ptr<GDALDataset, Closer>(ds);
 }
 
+// A PDS3 label (GDAL's json:PDS metadata) whose IMAGE object does not say how its samples are stored: GDAL
+// opens it anyway and guesses (most significant byte first), which reads any other file as noise. Refused.
+void check_pds3_image_label(GDALDataset* ds, const std::string& shown) {
+    char** md = ds->GetMetadata("json:PDS");
+    if (!md || !md[0]) return;
+    const nlohmann::json j = nlohmann::json::parse(md[0], nullptr, false);
+    if (j.is_discarded() || !j.contains("IMAGE") || !j["IMAGE"].is_object()) return;
+    for (const char* key : {"SAMPLE_TYPE", "SAMPLE_BITS"})
+        if (!j["IMAGE"].contains(key))
+            throw Error("'" + shown + "': the PDS3 label's IMAGE object has no " + key +
+                        " (how the samples are stored, e.g. SAMPLE_TYPE = PC_REAL, SAMPLE_BITS = 32): add it to the label");
+}
+
 }  // namespace
 
 std::pair<std::string, std::string> split_band(const std::string& path) {
@@ -107,6 +120,7 @@ std::vector<std::string> raster_band_names(const std::string& file) {
 Image read_raster_band(const std::string& path) {
     const auto [file, band] = split_band(path);
     auto ds = open_raster(file, path);
+    check_pds3_image_label(ds.get(), path);
     const int count = ds->GetRasterCount();
     int b = 0;
     if (band.empty()) b = 1;
@@ -133,6 +147,9 @@ Image read_raster_band(const std::string& path) {
         throw Error("'" + path + "': raster size " + std::to_string(w) + "x" + std::to_string(h) + " is not supported");
     int has_nodata = 0;
     const double nodata = rb->GetNoDataValue(&has_nodata);
+    // stored value -> physical value: PDS3 SCALING_FACTOR / OFFSET, PDS4 scaling_factor / value_offset, ISIS's
+    // Multiplier / Base (GDAL gives 1 and 0 where the label has none); no-data is compared before, in stored units
+    const double scale = rb->GetScale(), offset = rb->GetOffset();
     Image img(w, h, 2);
     std::vector<double> row(static_cast<std::size_t>(w));
     for (int y = 0; y < h; ++y) {
@@ -142,7 +159,7 @@ Image read_raster_band(const std::string& path) {
         for (int x = 0; x < w; ++x) {
             const double v = row[std::size_t(x)];
             const bool bad = !std::isfinite(v) || std::abs(v) > 3.0e38 || (has_nodata && v == nodata);
-            img.at(x, y, 0) = bad ? 0.0f : float(v);
+            img.at(x, y, 0) = bad ? 0.0f : float(v * scale + offset);
             img.at(x, y, 1) = bad ? 0.0f : 1.0f;
         }
     }

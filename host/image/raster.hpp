@@ -6,7 +6,9 @@
 // or `cube.cub[phase]` (a name, case-insensitive, matched against ISIS's BandBin Name and FilterName entries and
 // against GDAL's band description); `cube.cub` alone is band 1. Pixels that are GDAL's no-data value, ISIS's
 // special pixels (NULL, LIS, LRS, HIS, HRS: all beyond +-3e38 in float) or not finite get value 0 and alpha 0,
-// so the photometry and moon tools skip them.
+// so the photometry and moon tools skip them. Stored values are scaled as the label says (PDS3 SCALING_FACTOR and
+// OFFSET, PDS4 scaling_factor and value_offset, ISIS Multiplier and Base). A PDS3 IMAGE without SAMPLE_TYPE or
+// SAMPLE_BITS is refused (GDAL would guess). No viewing geometry is read from the labels. tests/test_pds.cpp.
 #pragma once
 #include <string>
 #include <vector>

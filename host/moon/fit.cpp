@@ -264,17 +264,22 @@ std::vector<PlotPoint> minnaert_plot_points(const std::vector<DiscPixel>& pixels
     return out;
 }
 
-MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry& sun, const FitOptions& o) {
-    check_fit_options(o);
+namespace {
+
+// Refuses a phase at which no pixel can pass both thresholds.
+void check_phase_reachable(const SunGeometry& sun, const FitOptions& o) {
     const double need = std::max(o.mu_min, o.mu0_min);
     if (best_min_cos(sun) <= need)
         throw Error("at phase " + num(sun.phase_deg) + " deg no point of the disc has mu >= " + num(o.mu_min) +
                     " and mu0 >= " + num(o.mu0_min) + " (the best is cos(phase/2) = " + num(best_min_cos(sun)) +
                     "): the Minnaert fit is meaningless this close to 180 deg; lower the thresholds or use a "
                     "smaller phase (at most " + num(2.0 * std::acos(need) / kDeg) + " deg for these thresholds)");
-    MinnaertFit f;
+}
+
+// The pixels inside the thresholds: `all` of them, and `logs`, those with I > 0 (the Minnaert plot's points).
+void collect_obs(const std::vector<DiscPixel>& pixels, const FitOptions& o, MinnaertFit& f, std::vector<Obs>& logs,
+                 std::vector<Obs>& all) {
     f.candidates = pixels.size();
-    std::vector<Obs> logs, all;   // I > 0 (the Minnaert plot's points); every pixel inside the thresholds
     for (const DiscPixel& p : pixels) {
         if (!(p.a.mu >= o.mu_min && p.a.mu0 >= o.mu0_min && p.a.mu > 0.0 && p.a.mu0 > 0.0) || !std::isfinite(p.I)) {
             ++f.below_thresholds;
@@ -287,28 +292,34 @@ MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry
         else
             ++f.non_positive;
     }
+}
+
+// Refuses too few pixels and too narrow a range of ln(mu mu0) (free B0: its standard deviation; fixed B0: its rms
+// about 0, where k has no lever).
+void check_obs(const std::vector<Obs>& logs, std::size_t on_disc, const FitOptions& o) {
     if (logs.size() < o.min_pixels)
         throw Error("only " + std::to_string(logs.size()) + " pixels have mu >= " + num(o.mu_min) + ", mu0 >= " +
-                    num(o.mu0_min) + " and I > 0 (of " + std::to_string(pixels.size()) + " on the disc); the fit needs "
+                    num(o.mu0_min) + " and I > 0 (of " + std::to_string(on_disc) + " on the disc); the fit needs "
                     "at least " + std::to_string(o.min_pixels) + ": use a larger disc, a smaller phase or lower thresholds");
     if (o.fixed_ln_B0 && !std::isfinite(*o.fixed_ln_B0)) throw Error("the fixed ln B0 is not finite");
-    const double spread = [&] {
-        double m = 0.0, m2 = 0.0;
-        for (const Obs& ob : logs) {
-            m += ob.x;
-            m2 += ob.x * ob.x;
-        }
-        m /= double(logs.size());
-        // Free B0: the standard deviation of x; fixed B0: the rms of x about 0 (where k has no lever).
-        return std::sqrt(std::max(0.0, m2 / double(logs.size()) - (o.fixed_ln_B0 ? 0.0 : m * m)));
-    }();
+    double m = 0.0, m2 = 0.0;
+    for (const Obs& ob : logs) {
+        m += ob.x;
+        m2 += ob.x * ob.x;
+    }
+    m /= double(logs.size());
+    const double spread = std::sqrt(std::max(0.0, m2 / double(logs.size()) - (o.fixed_ln_B0 ? 0.0 : m * m)));
     if (spread < o.min_spread)
         throw Error("the " + std::to_string(logs.size()) + " pixels span too narrow a range of ln(mu mu0) (" +
                     (o.fixed_ln_B0 ? std::string("rms ") : std::string("standard deviation ")) + num(spread) + " < " +
                     num(o.min_spread) + ") to determine k" + (o.fixed_ln_B0 ? "" : " and B0 together") +
                     ": use a larger part of the disc");
+}
 
-    // The Minnaert plot first: the answer of the classical method and the start of the others.
+// The fit itself: the Minnaert plot (the classical answer and the start of the others), then the weighted
+// iterations or the fit on I. Returns the weights of the last line fit (for the bias estimate).
+std::vector<double> fit_by_method(const std::vector<Obs>& logs, const std::vector<Obs>& all, const FitOptions& o,
+                                  MinnaertFit& f) {
     std::vector<double> w(logs.size(), 1.0);
     line_fit(logs, w, o.fixed_ln_B0, f);
     f.used = logs.size();
@@ -329,15 +340,18 @@ MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry
     }
     f.B0 = std::exp(f.ln_B0);
     f.se_B0 = f.B0 * f.se_ln_B0;
+    return w;
+}
+
+// The range of ln(mu mu0) used and the rms residuals (of ln(mu I) over I > 0, and relative).
+void summarise_residuals(const std::vector<Obs>& used, MinnaertFit& f) {
     f.x_min = 1e300;
     f.x_max = -1e300;
-    for (const Obs& ob : o.method == FitMethod::Intensity ? all : logs) {
-        f.x_min = std::min(f.x_min, ob.x);
-        f.x_max = std::max(f.x_max, ob.x);
-    }
     double sr2 = 0.0, srel2 = 0.0;
     std::size_t nlog = 0;
-    for (const Obs& ob : o.method == FitMethod::Intensity ? all : logs) {
+    for (const Obs& ob : used) {
+        f.x_min = std::min(f.x_min, ob.x);
+        f.x_max = std::max(f.x_max, ob.x);
         const double m = model_I(f.ln_B0, f.k, ob);
         const double rel = ob.I / m - 1.0;
         srel2 += rel * rel;
@@ -349,17 +363,25 @@ MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry
     }
     f.rms = nlog ? std::sqrt(sr2 / double(nlog)) : 0.0;
     f.rms_rel = std::sqrt(srel2 / double(f.used));
-    if (f.non_positive > 0) {
-        const double frac = double(f.non_positive) / double(f.non_positive + logs.size());
-        std::ostringstream msg;
-        if (o.method == FitMethod::Intensity)
-            msg << f.non_positive << " pixels inside the thresholds have I <= 0 (" << 100.0 * frac
-              << "%): used as they are by the fit on I";
-        else
-            msg << f.non_positive << " pixels inside the thresholds have I <= 0 and were skipped (" << 100.0 * frac
-              << "%)" << (frac > 0.001 ? ": at this S/N the Minnaert plot is biased; use --method intensity" : "");
-        f.warnings.push_back(msg.str());
-    }
+}
+
+// Pixels with I <= 0: skipped by the log fits (a bias at low S/N), used by the fit on I.
+void warn_non_positive(const FitOptions& o, std::size_t logs, MinnaertFit& f) {
+    if (f.non_positive == 0) return;
+    const double frac = double(f.non_positive) / double(f.non_positive + logs);
+    std::ostringstream msg;
+    if (o.method == FitMethod::Intensity)
+        msg << f.non_positive << " pixels inside the thresholds have I <= 0 (" << 100.0 * frac
+            << "%): used as they are by the fit on I";
+    else
+        msg << f.non_positive << " pixels inside the thresholds have I <= 0 and were skipped (" << 100.0 * frac
+            << "%)" << (frac > 0.001 ? ": at this S/N the Minnaert plot is biased; use --method intensity" : "");
+    f.warnings.push_back(msg.str());
+}
+
+// The pixel noise from neighbouring pixels, and a warning when the residuals are well above it (the law does not
+// describe the disc exactly).
+void estimate_noise(const std::vector<Obs>& all, MinnaertFit& f) {
     f.noise_sigma = neighbour_noise(all, f.ln_B0, f.k);
     double rms_abs = 0.0;
     for (const Obs& ob : all) {
@@ -375,28 +397,47 @@ MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry
             << "they change with the thresholds";
         f.warnings.push_back(msg.str());
     }
-    // The log fits' noise bias, to second order: with additive noise of variance sigma^2 (from neighbouring
-    // pixels, above), E[ln(I + e)] = ln I - sigma^2 / (2 I^2). The fit is linear in its y values, so the same
-    // regression applied to those offsets gives the bias of k and ln B0.
-    if (o.method != FitMethod::Intensity && f.noise_sigma > 0.0) {
-        const double s2 = f.noise_sigma * f.noise_sigma;
-        std::vector<Obs> shifted = logs;
-        for (std::size_t i = 0; i < logs.size(); ++i) {
-            const double m = model_I(f.ln_B0, f.k, logs[i]);
-            shifted[i].I = m * std::exp(-s2 / (2.0 * m * m));   // ln(mu I) moved by the expected bias
-        }
-        MinnaertFit b;
-        line_fit(shifted, w, o.fixed_ln_B0, b);
-        f.bias_k = b.k - f.k;
-        f.bias_ln_B0 = b.ln_B0 - f.ln_B0;
-        if (std::abs(f.bias_k) > 0.5 * f.se_k || (!o.fixed_ln_B0 && std::abs(f.bias_ln_B0) > 0.5 * f.se_ln_B0)) {
-            std::ostringstream msg;
-            msg << "with noise sigma ~ " << f.noise_sigma << " in I (from neighbouring pixels), the logarithms bias "
-                << "this fit by about " << f.bias_k << " in k (" << f.bias_k / f.se_k << " sigma) and "
-                << f.bias_ln_B0 << " in ln B0: --method intensity fits I itself and has no such bias";
-            f.warnings.push_back(msg.str());
-        }
+}
+
+// The log fits' noise bias, to second order: with additive noise of variance sigma^2 (from neighbouring pixels),
+// E[ln(I + e)] = ln I - sigma^2 / (2 I^2). The fit is linear in its y values, so the same regression applied to
+// those offsets gives the bias of k and ln B0.
+void estimate_log_bias(const std::vector<Obs>& logs, const std::vector<double>& w, const FitOptions& o,
+                       MinnaertFit& f) {
+    if (o.method == FitMethod::Intensity || f.noise_sigma <= 0.0) return;
+    const double s2 = f.noise_sigma * f.noise_sigma;
+    std::vector<Obs> shifted = logs;
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+        const double m = model_I(f.ln_B0, f.k, logs[i]);
+        shifted[i].I = m * std::exp(-s2 / (2.0 * m * m));   // ln(mu I) moved by the expected bias
     }
+    MinnaertFit b;
+    line_fit(shifted, w, o.fixed_ln_B0, b);
+    f.bias_k = b.k - f.k;
+    f.bias_ln_B0 = b.ln_B0 - f.ln_B0;
+    if (std::abs(f.bias_k) > 0.5 * f.se_k || (!o.fixed_ln_B0 && std::abs(f.bias_ln_B0) > 0.5 * f.se_ln_B0)) {
+        std::ostringstream msg;
+        msg << "with noise sigma ~ " << f.noise_sigma << " in I (from neighbouring pixels), the logarithms bias "
+            << "this fit by about " << f.bias_k << " in k (" << f.bias_k / f.se_k << " sigma) and "
+            << f.bias_ln_B0 << " in ln B0: --method intensity fits I itself and has no such bias";
+        f.warnings.push_back(msg.str());
+    }
+}
+
+}  // namespace
+
+MinnaertFit fit_minnaert(const std::vector<DiscPixel>& pixels, const SunGeometry& sun, const FitOptions& o) {
+    check_fit_options(o);
+    check_phase_reachable(sun, o);
+    MinnaertFit f;
+    std::vector<Obs> logs, all;
+    collect_obs(pixels, o, f, logs, all);
+    check_obs(logs, pixels.size(), o);
+    const std::vector<double> w = fit_by_method(logs, all, o, f);
+    summarise_residuals(o.method == FitMethod::Intensity ? all : logs, f);
+    warn_non_positive(o, logs.size(), f);
+    estimate_noise(all, f);
+    estimate_log_bias(logs, w, o, f);
     if (sun.phase_deg > 120.0)
         f.warnings.push_back("phase " + num(sun.phase_deg) + " deg: only a crescent is lit, and mu and mu0 are "
                              "anti-correlated on it; k is determined by few pixels near the bright limb");
@@ -470,6 +511,66 @@ std::vector<BinFit> fit_grid(const std::vector<DiscPixel>& pixels, const SunGeom
             out.push_back(r);
         }
     return out;
+}
+
+std::vector<std::string> hapke_disc_free_parameters(const std::string& model) {
+    if (model == "hapke_leg") return {"wh", "theta", "bh"};
+    return {"wh", "theta", "hg1"};
+}
+
+namespace {
+// The parameters of a Hapke law that act only through (1 + B(g)) P(g) at the image's single phase.
+std::vector<std::string> single_phase_group(const std::string& model) {
+    if (model == "hapke_leg") return {"b0", "hh", "bh", "ch"};
+    std::vector<std::string> g = {"b0", "hh", "hg1", "hg2"};
+    if (model == "hapke_2012") g.insert(g.end(), {"bc0", "hc"});   // the coherent backscatter B_CB(g) as well
+    return g;
+}
+}  // namespace
+
+HapkeDiscFit fit_hapke_disc(Runtime& rt, const std::vector<DiscPixel>& pixels, const SunGeometry& sun,
+                            const FitOptions& o, const photometry::FitSpec& spec) {
+    check_fit_options(o);
+    const std::string model = photometry::fit_model_name(spec.model);
+    if (photometry::fit_has_brightness(model))
+        throw Error("moon fit: --law " + spec.model + " is not a Hapke law: use minnaert (the default), hapke_hen, "
+                    "hapke_leg or hapke_2012 (photometry fit fits the other laws)");
+    HapkeDiscFit r;
+    r.candidates = pixels.size();
+    photometry::FitData d;
+    d.images = 1;
+    for (const DiscPixel& p : pixels) {
+        if (!(p.a.mu >= o.mu_min && p.a.mu0 >= o.mu0_min && p.a.mu > 0.0 && p.a.mu0 > 0.0) || !std::isfinite(p.I))
+            continue;
+        d.geometry.push_back({p.a.g_deg, p.a.i_deg, p.a.e_deg});
+        d.value.push_back(p.I);
+        d.image.push_back(0);
+    }
+    r.used = d.value.size();
+    if (r.used < o.min_pixels)
+        throw Error("only " + std::to_string(r.used) + " pixels have mu >= " + num(o.mu_min) + " and mu0 >= " +
+                    num(o.mu0_min) + " (of " + std::to_string(pixels.size()) + " on the disc at phase " +
+                    num(sun.phase_deg) + " deg); the Hapke fit needs at least " + std::to_string(o.min_pixels) +
+                    ": use a larger disc, a smaller phase or lower thresholds");
+    photometry::FitSpec s = spec;
+    s.model = model;
+    if (s.free.empty()) s.free = hapke_disc_free_parameters(model);
+    for (const auto& name : single_phase_group(model))
+        if (std::find(s.free.begin(), s.free.end(), name) == s.free.end()) r.held.push_back(name);
+    r.fit = photometry::fit_law(rt, d, s);
+    return r;
+}
+
+std::string describe_hapke_disc_fit(const HapkeDiscFit& f, const SunGeometry& sun) {
+    std::ostringstream s;
+    s << photometry::describe_fit(f.fit);
+    s << "pixels used " << f.used << " of " << f.candidates << " on the disc\n";
+    std::string held;
+    for (const auto& h : f.held) held += (held.empty() ? "" : ", ") + h;
+    s << "held: " << held << ": one image has one phase (" << num(sun.phase_deg)
+      << " deg), where the opposition surge and the phase function act only through the single number "
+         "(1 + B(g)) P(g); fit images at several phases with `photometry fit` to separate them\n";
+    return s.str();
 }
 
 Comparison compare_pixels(const std::vector<DiscPixel>& pixels, const PhotometricModel& m, const SunGeometry& sun,

@@ -13,6 +13,7 @@
 #include "image/image.hpp"
 #include "moon/disc.hpp"
 #include "moon/photometry.hpp"
+#include "photometry/fit.hpp"
 
 namespace shadelab::moon {
 
@@ -119,6 +120,29 @@ std::vector<BinFit> fit_longitude_bins(const std::vector<DiscPixel>& pixels, con
                                        const FitOptions& o, int bins);
 std::vector<BinFit> fit_grid(const std::vector<DiscPixel>& pixels, const SunGeometry& sun, const FitOptions& o,
                              int cells);
+
+// --- Hapke fit of one disc image: photometry::fit_law (host/photometry/fit.hpp: bounded Levenberg-Marquardt on I,
+// standard errors and correlations) on the disc pixels inside the thresholds mu >= mu_min, mu0 >= mu0_min.
+// What one image determines: every pixel has the same phase g, so the opposition surge B(g) (b0, hh) and the phase
+// function P(g) (hg1, hg2; bh, ch) enter only through the one number (1 + B(g)) P(g), the single-scattering factor
+// beside the multiple-scattering term H(mu0e) H(mue) - 1. With w and theta-bar, ONE of them can be fitted (by
+// default hg1, or bh for hapke_leg); the others are held at their given values (fit_law's starts otherwise) and
+// named in `held`. Fitting two of them at once leaves a direction the data do not determine, which the fit
+// reports (SE "not determined"). w and theta-bar are determined by the disc's shape (limb and terminator).
+struct HapkeDiscFit {
+    photometry::FitResult fit;
+    std::vector<std::string> held;      // the parameters one image cannot separate, held fixed
+    std::size_t candidates = 0;         // disc pixels considered
+    std::size_t used = 0;               // inside the thresholds (and finite)
+};
+// The parameters fitted by default: wh, theta and hg1 (hapke_hen, hapke_2012) or bh (hapke_leg).
+std::vector<std::string> hapke_disc_free_parameters(const std::string& model);
+// Throws one line for: a law that is not a Hapke law, too few pixels (o.min_pixels) inside the thresholds, and
+// what fit_law refuses (unknown parameters, values out of range).
+HapkeDiscFit fit_hapke_disc(Runtime& rt, const std::vector<DiscPixel>& pixels, const SunGeometry& sun,
+                            const FitOptions& o, const photometry::FitSpec& spec);
+// The report: fit_law's (parameters, standard errors, correlations, notes) and what was held and why.
+std::string describe_hapke_disc_fit(const HapkeDiscFit& f, const SunGeometry& sun);
 
 // --- Comparison of image pixels with a model at their exact geometry, over mu >= mu_min, mu0 >= mu0_min.
 struct Comparison {

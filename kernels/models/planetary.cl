@@ -44,16 +44,21 @@ typedef struct {
 // cancellation).
 SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     sl_pho g;
-    const sl_v3 nl = sl_cross(N, L), nv = sl_cross(N, V);
+    // the V terms after the L terms, and tan(psi/2) after tan(g/2) (common.cl's sl_after): side by side they are
+    // what LLVM's SLP vectoriser packs into <2 x float>, which stops PoCL's work-item loop vectoriser
+    const sl_v3 nl = sl_cross(N, L);
     g.mu0 = sl_dot(N, L);
-    g.mu = sl_dot(N, V);
     g.sin_i = sl_length(nl);
+    const sl_v3 Va = sl_v3_make(sl_after(V.x, g.sin_i), V.y, V.z);
+    const sl_v3 nv = sl_cross(N, Va);
+    g.mu = sl_dot(N, Va);
     g.sin_e = sl_length(nv);
-    g.cos_g = sl_dot(L, V);
-    const sl_v3 d = sl_sub(L, V), s = sl_add(L, V);
+    g.cos_g = sl_dot(L, Va);
+    const sl_v3 d = sl_sub(L, Va), s = sl_add(L, Va);
     g.tan_half_g = fmin(sqrt(sl_dot(d, d) / sl_dot(s, s)), PHO_TAN_MAX);   // d/0 = inf, clamped (g = 180)
-    const sl_v3 pd = sl_sub(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
-    const sl_v3 ps = sl_add(sl_scale(nl, g.sin_e), sl_scale(nv, g.sin_i));
+    const float sin_e_after = sl_after(g.sin_e, g.tan_half_g);   // tan(g/2) <= PHO_TAN_MAX: finite
+    const sl_v3 pd = sl_sub(sl_scale(nl, sin_e_after), sl_scale(nv, g.sin_i));
+    const sl_v3 ps = sl_add(sl_scale(nl, sin_e_after), sl_scale(nv, g.sin_i));
     const float t_psi = fmin(sqrt(sl_dot(pd, pd) / sl_dot(ps, ps)), PHO_TAN_MAX);
     g.tan_half_psi = g.sin_i * g.sin_e > 0.0f ? t_psi : 0.0f;   // no azimuth along N: psi = 0 (ISIS)
     return g;
@@ -193,12 +198,17 @@ SL_INLINE float Pho_one_minus_exp_neg(float x) {
 // a large tan(theta) term can round below 0), and the law is 0 where both are 0.
 SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, float k2, float* mu0e_out, float* mue_out) {
     // cot i, cot e with ISIS's floor of 1e-10 on the sine (i or e = 0: cot is huge, E1 = E2 = 0)
-    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f), cot_e = g.mu / fmax(g.sin_e, 1.0e-10f);
-    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i), om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1
-    const float e1i = 1.0f - om1i, e1e = 1.0f - om1e;
-    const float e2i = Hapke_E2(cot_i, k2), e2e = Hapke_E2(cot_e, k2);
-    const float eta_i = Hapke_eta(g.mu0, g.sin_i, e1i, e2i, chi, tan_t);
-    const float eta_e = Hapke_eta(g.mu, g.sin_e, e1e, e2e, chi, tan_t);
+    // Every term of e is computed after the same term of i, and E2 after E1 (common.cl's sl_after): the two
+    // chains are isomorphic, and LLVM's SLP vectoriser would otherwise pack them into <2 x float>, which stops
+    // PoCL's work-item loop vectoriser (the kernel then runs one geometry at a time: docs/photometry.md, Speed).
+    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f);
+    const float om1i = Pho_one_minus_exp_neg(k1 * cot_i);   // 1 - E1(i)
+    const float e2i = Hapke_E2(sl_after(cot_i, om1i), k2);
+    const float eta_i = Hapke_eta(g.mu0, g.sin_i, 1.0f - om1i, e2i, chi, tan_t);
+    const float cot_e = sl_after(g.mu, eta_i) / fmax(g.sin_e, 1.0e-10f);
+    const float om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1(e)
+    const float e2e = Hapke_E2(sl_after(cot_e, om1e), k2);
+    const float eta_e = Hapke_eta(g.mu, g.sin_e, 1.0f - om1e, e2e, chi, tan_t);
     // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
     const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
     const float c = (1.0f - t2) / (1.0f + t2);
@@ -213,9 +223,12 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
     const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
     const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
-    const float den_ei = om1i + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - (psi/pi) E1(e)
     const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t * (c * e2e + sin2_half_psi * e2i) / den_ie);
     const float mue_ie = chi * (g.mu + g.sin_e * tan_t * (e2e - sin2_half_psi * e2i) / den_ie);
+    // the i > e case after the i <= e case (the SLP vectoriser, as above), after min(|mue_ie|, 1): finite even
+    // where mue_ie is not (a zero denominator at theta-bar = 90, psi = 180), so it cannot make the other case NaN
+    const float after_ie = fmin(fabs(mue_ie), 1.0f);
+    const float den_ei = sl_after(om1i, after_ie) + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - ...
     const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
     const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
     const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f), mue = fmax(i_le_e ? mue_ie : mue_ei, 0.0f);
@@ -236,11 +249,11 @@ SL_INLINE float Hapke_value(sl_pho g, float P, __constant const HapkeConsts* k) 
     const float w_over_4 = k->w_over_4, gamma = k->gamma, b0 = k->b0, inv_h = k->inv_h, rough_flag = k->rough;
     const float chi = k->chi, tan_t = k->tan_t, k1 = k->k1, k2 = k->k2;
     const float B = Hapke_B(g.tan_half_g, b0, inv_h);
-    const float smooth = Hapke_smooth(g.mu0, g.mu, w_over_4, gamma, B, P);
     float mu0e, mue;
     const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
-    const float rough = Hapke_smooth(mu0e, mue, w_over_4, gamma, B, P) * S;
-    return rough_flag != 0.0f ? rough : smooth;
+    // the smooth law at (mu0e, mue) times S, or at (mu0, mu) times 1: one evaluation of it at the selected cosines
+    const int rough = rough_flag != 0.0f;
+    return Hapke_smooth(rough ? mu0e : g.mu0, rough ? mue : g.mu, w_over_4, gamma, B, P) * (rough ? S : 1.0f);
 }
 
 // ---- Hapke's 2002/2012 refinements (the variant hapke_2012) ----------------------------------------------------
@@ -281,7 +294,8 @@ SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
 // H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
 SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
     const float inv_K = 1.0f / K;
-    const float M = Hapke_H2002(mu0 * inv_K, w, r0) * Hapke_H2002(mu * inv_K, w, r0) - 1.0f;
+    const float H0 = Hapke_H2002(mu0 * inv_K, w, r0);
+    const float M = H0 * Hapke_H2002(sl_after(mu, H0) * inv_K, w, r0) - 1.0f;   // H(mu) after H(mu0): sl_after
     return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
 }
 
@@ -335,11 +349,12 @@ SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
     const float w = k->w, r0 = k->r0, K = k->K, bc0 = k->bc0, inv_hc = k->inv_hc;
     const float P = Hapke_P_HG2(g.tan_half_g, &k->phase.hg2);
     const float B_SH = Hapke_B(g.tan_half_g, b0, inv_h), B_CB = Hapke_BC(g.tan_half_g, bc0, inv_hc);
-    const float smooth = Hapke2012_smooth(g.mu0, g.mu, w, r0, K, B_SH, B_CB, P);
     float mu0e, mue;
     const float S = Hapke_roughness(g, chi, tan_t, k1, k2, &mu0e, &mue);
-    const float rough = Hapke2012_smooth(mu0e, mue, w, r0, K, B_SH, B_CB, P) * S;
-    return Pho_visible(g) ? (rough_flag != 0.0f ? rough : smooth) : 0.0f;
+    const int rough = rough_flag != 0.0f;   // one evaluation at the selected cosines, as Hapke_value
+    const float v =
+        Hapke2012_smooth(rough ? mu0e : g.mu0, rough ? mue : g.mu, w, r0, K, B_SH, B_CB, P) * (rough ? S : 1.0f);
+    return Pho_visible(g) ? v : 0.0f;
 }
 
 // ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------

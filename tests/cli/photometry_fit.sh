@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # shadelab photometry fit as a user runs it: Hapke discs rendered by `moon render` at three phases, fitted back
-# with standard errors, several laws ranked (the true one first), and bad input refused with one line and exit 1.
+# with standard errors, several laws ranked (the true one first), `moon fit --law hapke_hen` on one of them, and bad
+# input refused with one line and exit 1.
 # Usage: photometry_fit.sh SHADELAB_BINARY
 set -uo pipefail
 bin="$1"
@@ -56,6 +57,20 @@ expect "missing band" 1 "g2.tif has no band '9': its bands are 1" -- \
     "$bin" photometry fit "g2.tif[9]" --phase 2 --radius 34 --model lambert
 expect "band backplanes of another size" 1 "small.tif\[1\] is 60x60 but g2.exr is 80x80" -- \
     "$bin" photometry fit g2.exr --backplanes "small.tif[1],small.tif[1],small.tif[1]" --model lambert
+# moon fit --law hapke_hen: one disc, wh, theta, hg1 fitted with b0 and hh held (named), bad input
+one=(g40.exr --phase 40 --pa 70 --radius 34 --centre 40,40)
+expect "moon fit hapke wh" 0 "^wh +0\.25(00[0-9]*)? " -- "$bin" moon fit "${one[@]}" --law hapke_hen -p b0=1.2 -p hh=0.08
+expect "moon fit hapke theta" 0 "^theta +(18|18\.00[0-9]*|17\.99[0-9]*) " -- "$bin" moon fit "${one[@]}" --law HapkeHen -p b0=1.2 -p hh=0.08
+expect "moon fit hapke held" 0 "held: b0, hh, hg2: one image has one phase" -- "$bin" moon fit "${one[@]}" --law hapke_hen
+expect "moon fit hapke correlations" 0 "^correlation:" -- "$bin" moon fit "${one[@]}" --law hapke_hen
+expect "moon fit not hapke" 1 "lunar_lambert is not a Hapke law" -- "$bin" moon fit "${one[@]}" --law lunar_lambert
+expect "moon fit unknown law" 1 "cannot be fitted: choose one of" -- "$bin" moon fit "${one[@]}" --law hapke_lol
+expect "moon fit bad start" 1 "-p wh=1.5 is out of range for hapke_hen" -- \
+    "$bin" moon fit "${one[@]}" --law hapke_hen -p wh=1.5
+expect "moon fit hapke without k maps" 1 "--bins and --grid are Minnaert k maps" -- \
+    "$bin" moon fit "${one[@]}" --law hapke_hen --bins 4
+expect "moon fit minnaert without -p" 1 "-p and --free go with a Hapke law" -- "$bin" moon fit "${one[@]}" -p wh=0.3
+expect "moon fit minnaert as before" 0 "k  = " -- "$bin" moon fit "${one[@]}" --no-plot -o fit.csv
 
 echo "photometry_fit.sh: $passes passed, $fails failed"
 [ "$fails" -eq 0 ]
