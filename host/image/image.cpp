@@ -16,6 +16,7 @@
 #include "core/limits.hpp"
 #include "image/fits.hpp"
 #include "image/raster.hpp"
+#include "raster/big_buffer.hpp"
 #include "raster/parallel.hpp"
 
 namespace fs = std::filesystem;
@@ -51,7 +52,11 @@ Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, con
     const std::size_t n = fb.size();
     if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
-    Image img(fb.width, fb.height, 4);
+    Image img;
+    img.width = fb.width;
+    img.height = fb.height;
+    img.channels = 4;
+    resize_fresh(img.pixels, npix * 4);
     const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
     float* const out = img.pixels.data();
     const std::int32_t* const pixel = fb.pixel.data();

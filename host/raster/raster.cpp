@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "raster/big_buffer.hpp"
 #include "raster/parallel.hpp"
 
 namespace shadelab {
@@ -854,6 +855,8 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
         s.owner.reset();
         s.depth.reset(new double[pixels]);
         s.owner.reset(new std::int32_t[pixels]);
+        advise_huge_pages(s.depth.get(), pixels * sizeof(double));
+        advise_huge_pages(s.owner.get(), pixels * sizeof(std::int32_t));
         s.pixels = pixels;
     }
     if (rows > s.rows) {
@@ -940,10 +943,10 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
     FragmentBuffer fb;
     fb.width = W;
     fb.height = H;
-    fb.resize(at.back());
-    fb.triangle.resize(at.back());
-    fb.b1.resize(at.back());
-    fb.b2.resize(at.back());
+    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
+        resize_fresh(*v, at.back());
+    resize_fresh(fb.pixel, at.back());
+    resize_fresh(fb.triangle, at.back());
     const EmitContext ctx{&mesh, sv.get(), &chunks, &first_id, owner, spans, g.tiles_x, camera.eye,
                           glm::normalize(camera.target - camera.eye), options.flip_normals_to_viewer, W, H};
     std::atomic<int> next_band{0};
