@@ -137,7 +137,7 @@ void bench_writes(Runtime& rt, const Mesh& mesh, int w, int h, int reps, const f
 
 // Builds and runs every catalogue model (precise and fast) once; prints "builds <ms> total <ms> programs <n>
 // cached <n>".
-int child_builds(bool smoke) {
+int child_builds(int max_models) {
     Runtime rt;
     Shader shader(rt);
     FragmentBuffer fb;
@@ -147,7 +147,7 @@ int child_builds(bool smoke) {
     const auto t0 = clock_type::now();
     int n = 0;
     for (const ModelInfo& info : model_catalogue()) {
-        if (smoke && n >= 2) break;
+        if (max_models > 0 && n >= max_models) break;
         Material m;
         m.model = info.name;
         add_demo_children(m, info);
@@ -171,9 +171,9 @@ struct BuildRun {
     std::size_t programs = 0, cached = 0;
 };
 
-BuildRun run_child(const std::string& self, const std::string& pocl_cache, const std::string& program_cache, bool smoke) {
+BuildRun run_child(const std::string& self, const std::string& pocl_cache, const std::string& program_cache, int max_models) {
     const std::string cmd = "POCL_CACHE_DIR='" + pocl_cache + "' SHADELAB_PROGRAM_CACHE='" + program_cache + "' '" +
-                            self + "' --child-builds" + (smoke ? " --smoke" : "");
+                            self + "' --child-builds --build-models " + std::to_string(max_models);
     const std::string out = run_capture(cmd);
     BuildRun r;
     std::size_t rejected = 0;
@@ -183,8 +183,10 @@ BuildRun run_child(const std::string& self, const std::string& pocl_cache, const
     return r;
 }
 
-void bench_builds(const std::string& self, const fs::path& tmp, bool smoke) {
-    std::printf("\n== program builds: every catalogue model, precise and fast, built and run once (fresh process each)\n");
+void bench_builds(const std::string& self, const fs::path& tmp, int max_models) {
+    std::printf("\n== program builds: %s catalogue model%s, precise and fast, built and run once (fresh process each)\n",
+                max_models > 0 ? ("the first " + std::to_string(max_models)).c_str() : "every",
+                max_models == 1 ? "" : "s");
     std::printf("%-52s %10s %10s %9s %7s\n", "case", "build", "process", "programs", "cached");
     const std::string pocl_a = (tmp / "pocl-a").string(), pocl_b = (tmp / "pocl-b").string();
     const std::string cache = (tmp / "programs").string();
@@ -201,7 +203,7 @@ void bench_builds(const std::string& self, const fs::path& tmp, bool smoke) {
     };
     double cold = 0;
     for (const Step& s : steps) {
-        const BuildRun r = run_child(self, s.pocl, s.programs, smoke);
+        const BuildRun r = run_child(self, s.pocl, s.programs, max_models);
         if (cold == 0) cold = r.total_ms;
         std::printf("%-52s %8.0fms %8.0fms %9zu %7zu   %.2fx the cold run\n", s.label, r.build_ms, r.total_ms, r.programs,
                     r.cached, cold / r.total_ms);
@@ -227,7 +229,7 @@ void bench_meshes(const std::vector<std::string>& meshes, int reps) {
 
 int main(int argc, char** argv) {
     bool smoke = false, child = false;
-    int reps = 3;
+    int reps = 3, build_models = 0;
     std::string size = "4096x4096";
     const std::string mesh_dir = std::string(SHADELAB_SOURCE_DIR) + "/meshes";
     std::vector<std::string> meshes = {mesh_dir + "/suzanne.obj", mesh_dir + "/spot.obj", mesh_dir + "/teapot.obj",
@@ -236,6 +238,8 @@ int main(int argc, char** argv) {
     app.add_flag("--smoke", smoke, "Tiny run for the test suite: 64x64, two models, no timing claims");
     app.add_option("--size", size, "Image size of the write benchmark, WIDTHxHEIGHT")->capture_default_str();
     app.add_option("--reps", reps, "Repetitions (best is reported)")->capture_default_str()->check(CLI::Range(1, 100));
+    app.add_option("--build-models", build_models, "Build only the first N catalogue models (0 = all)")
+        ->capture_default_str()->check(CLI::Range(0, 1000));
     app.add_flag("--child-builds", child, "(internal) build the catalogue once and print the times");
     try {
         app.parse(argc, argv);
@@ -245,10 +249,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        if (child) return child_builds(smoke);
+        if (child) return child_builds(build_models);
         int w = 0, h = 0;
         char x = 0;
-        if (smoke) size = "64x64", reps = 1;
+        if (smoke) size = "64x64", reps = 1, build_models = 2;
         if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 1 || h < 1 || w > 16384 || h > 16384)
             throw Error("--size expects WIDTHxHEIGHT with each side in [1, 16384]; got '" + size + "'");
         const fs::path tmp = fs::temp_directory_path() / ("shadelab-bench-process-" + std::to_string(::getpid()));
@@ -257,7 +261,7 @@ int main(int argc, char** argv) {
         Runtime rt;
         std::printf("OpenCL: %s\n", rt.device_description().c_str());
         bench_writes(rt, load_mesh(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
-        bench_builds(fs::canonical("/proc/self/exe").string(), tmp, smoke);
+        bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
         bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps);
         fs::remove_all(tmp);
         return 0;
