@@ -227,8 +227,18 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
             for (int c = 0; c < 3; ++c) rgb.pixels[p * 3 + c] = img.pixels[p * std::size_t(img.channels) + std::size_t(img.channels >= 3 ? c : 0)];
         return write_image(path, rgb, options);
     }
+    // Counted on all threads: at 4096x4096 this is a pass over 256 MB before any encoding.
+    const std::size_t nvalues = img.pixels.size();
+    const int threads = thread_count(0, nvalues / (1 << 20));
+    std::vector<std::size_t> bad_of(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        std::size_t b = 0;
+        for (std::size_t i = split(nvalues, threads, t), e = split(nvalues, threads, t + 1); i < e; ++i)
+            b += std::isfinite(img.pixels[i]) ? 0 : 1;
+        bad_of[std::size_t(t)] = b;
+    });
     std::size_t bad = 0;
-    for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
+    for (std::size_t b : bad_of) bad += b;
     if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
     // The temporary file keeps the extension: OpenImageIO picks the format from it.
     write_file_atomically(
