@@ -137,7 +137,7 @@ TEST_CASE("program cache: truncated, corrupt, misnamed and driver-refused entrie
     }
 }
 
-TEST_CASE("program cache: 'off' writes nothing and loads nothing; the folder follows the settings", "[runtime][cache]") {
+TEST_CASE("program cache: off writes nothing and loads nothing, and the folder follows the settings", "[runtime][cache]") {
     const fs::path root = test::scratch_dir("program-cache-off");
     write_kernels(root / "k", 3);
     Runtime rt(RuntimeOptions{"", -1, (root / "k").string(), "off"});
