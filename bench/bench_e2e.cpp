@@ -407,6 +407,7 @@ Image image_from_gl(const std::vector<float>& rgba, int w, int h) {
 struct SlTimes {
     double total = 0, raster = 0, upload = 0, kernel = 0, download = 0, resolve = 0;
     std::size_t fragments = 0;
+    RasterStats stages;   // the rasteriser's own split: set-up, rasterise (binned tiles), emit
 };
 
 // One shadelab frame, as `shadelab render` does it: rasterise (2 threads), shade on the OpenCL device,
@@ -418,7 +419,8 @@ Image shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& sha
     ro.width = w;
     ro.height = h;
     ro.threads = kThreads;
-    const FragmentBuffer fb = rasterize(mesh, s.camera, ro);
+    RasterStats rs;
+    const FragmentBuffer fb = rasterize(mesh, s.camera, ro, &rs);
     const auto t1 = clock_type::now();
     ShadeTiming st;
     const std::vector<float> rgb = shader.shade(fb, setup, &st);
@@ -426,8 +428,36 @@ Image shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& sha
     Image img = compose_image(fb, rgb, glm::dvec4(0.0));
     const auto t3 = clock_type::now();
     t = SlTimes{ms_since(t0, t3), ms_since(t0, t1), st.upload_ms, st.kernel_ms, st.download_ms, ms_since(t2, t3),
-                fb.size()};
+                fb.size(), rs};
     return img;
+}
+
+// The rasteriser alone on 1 and on kThreads threads (best of `frames` each, interleaved): how its threads
+// scale, with its stages. The bar is 2 threads >= 1.7x one thread on an idle machine.
+void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int frames) {
+    RasterStats best[2];
+    double best_ms[2] = {1e30, 1e30};
+    const int counts[2] = {1, kThreads};
+    for (int f = 0; f < std::max(3, frames); ++f)
+        for (int k = 0; k < 2; ++k) {
+            RasterOptions ro;
+            ro.width = w;
+            ro.height = h;
+            ro.threads = counts[k];
+            RasterStats rs;
+            const auto t0 = clock_type::now();
+            const FragmentBuffer fb = rasterize(mesh, s.camera, ro, &rs);
+            const double ms = ms_since(t0, clock_type::now());
+            if (ms < best_ms[k]) {
+                best_ms[k] = ms;
+                best[k] = rs;
+            }
+        }
+    for (int k = 0; k < 2; ++k)
+        std::printf("rasteriser alone, %d thread%s: %7.2f ms (set-up %.2f, rasterise %.2f, emit %.2f)\n", counts[k],
+                    counts[k] == 1 ? " " : "s", best_ms[k], best[k].setup_ms, best[k].raster_ms, best[k].emit_ms);
+    std::printf("rasteriser threads: %d threads = %.2fx one thread (bar: 1.7x on an idle machine)\n", kThreads,
+                best_ms[0] / best_ms[1]);
 }
 
 bool all_finite(const Image& img) {
@@ -440,7 +470,7 @@ struct Options {
     bool smoke = false;
     int frames = 9;
     std::vector<std::string> meshes;
-    std::vector<std::string> sizes{"512x512", "1920x1080"};
+    std::vector<std::string> sizes{"512x512", "1920x1080", "4096x4096"};
     std::vector<std::string> models = kGlModels;
     std::string gl_model;        // empty: the same model as shadelab
     std::string csv;
@@ -570,6 +600,7 @@ int run(const Options& o) {
             if (scene.lights.size() > std::size_t(kMaxLights)) throw Error("too many lights for the GLSL arrays");
             const GlTarget target(w, h);
             bool header = false;
+            bool scaling = false;
             for (const std::string& model : o.models) {
                 Material mat;
                 mat.model = model;
@@ -638,6 +669,10 @@ int run(const Options& o) {
                                      best.fragments);
                         header = true;
                     }
+                    if (!scaling) {
+                        print_raster_scaling(mesh, scene, w, h, o.frames);
+                        scaling = true;
+                    }
                     print_row(r, o.target);
                     std::fflush(stdout);
                     if (!(r.diff.de_mean <= o.max_mean_de) || !(r.diff.de_p99 <= o.max_p99_de) ||
@@ -673,16 +708,17 @@ int run(const Options& o) {
     if (!rows.empty() && worst < o.target)
         std::printf("; worst ratio %.2fx, shadelab needs to be %.2fx faster there", worst, o.target / worst);
     // Where shadelab's frame goes, summed over all rows (best frames): what would have to shrink to reach the target.
-    double sum_total = 0, sum_raster = 0, sum_kernel = 0;
+    double sum_total = 0, sum_raster = 0, sum_kernel = 0, sum_resolve = 0;
     for (const Row& r : rows) {
         sum_total += r.sl.total;
         sum_raster += r.sl.raster;
         sum_kernel += r.sl.kernel;
+        sum_resolve += r.sl.resolve;
     }
     if (sum_total > 0)
-        std::printf("\nshadelab's time, all rows: rasterise %.0f%%, kernel %.0f%%, the rest %.0f%%\n",
-                    100.0 * sum_raster / sum_total, 100.0 * sum_kernel / sum_total,
-                    100.0 * (sum_total - sum_raster - sum_kernel) / sum_total);
+        std::printf("\nshadelab's time, all rows: rasterise %.0f%%, kernel %.0f%%, resolve %.0f%%, the rest %.0f%%\n",
+                    100.0 * sum_raster / sum_total, 100.0 * sum_kernel / sum_total, 100.0 * sum_resolve / sum_total,
+                    100.0 * (sum_total - sum_raster - sum_kernel - sum_resolve) / sum_total);
     std::printf("images %s (bounds: dE2000 mean <= %.2f and p99 <= %.2f, coverage mismatch <= %.2f%%)\n",
                 agree ? "agree" : "DISAGREE", o.max_mean_de, o.max_p99_de, 100.0 * o.max_coverage_mismatch);
     if (!o.csv.empty()) {
@@ -697,12 +733,12 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
     Options o;
     const std::string mesh_dir = std::string(SHADELAB_SOURCE_DIR) + "/meshes";
-    o.meshes = {mesh_dir + "/spot.obj", mesh_dir + "/stanford-bunny.obj"};
+    o.meshes = {mesh_dir + "/spot.obj", mesh_dir + "/stanford-bunny.obj", mesh_dir + "/dragon_vrip_res2.ply"};
     CLI::App app{"bench_e2e: shadelab end to end (mesh -> image in memory) against Mesa's llvmpipe through EGL"};
     app.add_flag("--smoke", o.smoke, "Tiny run for the test suite: spot.obj at 96x72, 1 frame, no timing claims");
     app.add_option("--frames", o.frames, "Timed frames per case (best is reported)")->capture_default_str()
         ->check(CLI::Range(1, 1000));
-    app.add_option("--meshes", o.meshes, "Mesh files (default: meshes/spot.obj meshes/stanford-bunny.obj)");
+    app.add_option("--meshes", o.meshes, "Mesh files (default: meshes/spot.obj meshes/stanford-bunny.obj meshes/dragon_vrip_res2.ply)");
     app.add_option("--sizes", o.sizes, "Image sizes WIDTHxHEIGHT")->capture_default_str();
     app.add_option("--models", o.models, "Models (each has a GLSL version)")->capture_default_str();
     app.add_option("--gl-model", o.gl_model,

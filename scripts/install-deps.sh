@@ -14,6 +14,8 @@ PACKAGES=(
   libcfitsio-dev libgdal-dev
   # command line, JSON, tests
   libcli11-dev nlohmann-json3-dev catch2
+  # SHA-256 keys and checksums of the OpenCL program-binary cache (host/cl/program_cache.cpp)
+  libssl-dev
   # charts (gnuplot renders the PNG plots); the font the contact sheet's labels use
   gnuplot-nox fonts-dejavu-core
   # the Python module (pybind11 on Debian's python3 and numpy), its tests, and docs/python.md's worked example

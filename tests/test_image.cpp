@@ -2,7 +2,10 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
+#include <limits>
 
 #include "core/error.hpp"
 #include "image/image.hpp"
@@ -93,4 +96,69 @@ TEST_CASE("compose_image puts fragments at their pixels, background elsewhere, a
     CHECK(img.at(0, 0, 0) == 0.2f);
     CHECK(img.at(2, 1, 0) == 0.05f);
     CHECK(img.at(2, 1, 3) == 0.0f);
+}
+
+TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-thread scatter on a large image", "[image]") {
+    // 1000 x 700 with every third pixel covered, in pixel order (the parallel path) and the same fragments
+    // in reverse order (the one-thread path): the two images must be equal value for value.
+    FragmentBuffer fwd, rev;
+    fwd.width = rev.width = 1000;
+    fwd.height = rev.height = 700;
+    const int npix = 1000 * 700;
+    std::vector<int> covered;
+    for (int p = 0; p < npix; p += 3) covered.push_back(p);
+    for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
+    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
+    const std::size_t n = covered.size();
+    std::vector<float> rgb_fwd(3 * n), rgb_rev(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) {
+            rgb_fwd[c * n + i] = float(covered[i] % 997) / 997.0f + float(c);
+            rgb_rev[c * n + (n - 1 - i)] = rgb_fwd[c * n + i];
+        }
+    const Image a = compose_image(fwd, rgb_fwd, {0.25, 0.5, 0.75, 0.125});
+    const Image b = compose_image(rev, rgb_rev, {0.25, 0.5, 0.75, 0.125});
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
+    CHECK(differ == 0);
+    CHECK(a.at(3, 0, 3) == 1.0f);     // pixel 3: covered
+    CHECK(a.at(4, 0, 3) == 0.125f);   // pixel 4: background alpha
+    CHECK(a.at(4, 0, 1) == 0.5f);
+    // A fragment outside the image is an error, not a write out of bounds.
+    FragmentBuffer bad = rev;
+    bad.pixel[0] = npix;
+    CHECK_THROWS_WITH(compose_image(bad, rgb_rev, {0, 0, 0, 0}), Catch::Contains("outside the 1000x700 image"));
+}
+
+TEST_CASE("the 8-bit sRGB table gives lround(255 srgb_encode(v)) for every 97th float in [0, 1] and around each step", "[image]") {
+    // The direct evaluation of the IEC 61966-2-1 curve, rounded as write_image always did.
+    const auto direct = [](float v) { return int(std::lround(srgb_encode(double(v)) * 255.0)); };
+    const auto of_bits = [](std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, sizeof f);
+        return f;
+    };
+    std::size_t checked = 0, wrong = 0;
+    const std::uint32_t one = 0x3F800000u;
+    for (std::uint32_t b = 0; b <= one; b += 97, ++checked) wrong += srgb8_code(of_bits(b)) != direct(of_bits(b));
+    // Around every step of the code (found by bisection here, independently of the table): 64 floats each side.
+    for (int k = 1; k <= 255; ++k) {
+        std::uint32_t lo = 0, hi = one;
+        while (hi - lo > 1) {
+            const std::uint32_t mid = lo + (hi - lo) / 2;
+            (direct(of_bits(mid)) >= k ? hi : lo) = mid;
+        }
+        for (std::uint32_t b = hi - 64; b <= hi + 64; ++b, ++checked) wrong += srgb8_code(of_bits(b)) != direct(of_bits(b));
+    }
+    INFO(checked << " floats checked, " << wrong << " wrong");
+    CHECK(checked > 10000000);
+    CHECK(wrong == 0);
+    // Out of [0, 1], NaN and negative zero.
+    CHECK(srgb8_code(-1.0f) == 0);
+    CHECK(srgb8_code(-0.0f) == 0);
+    CHECK(srgb8_code(std::nanf("")) == 0);
+    CHECK(srgb8_code(1.0f) == 255);
+    CHECK(srgb8_code(1e30f) == 255);
+    CHECK(srgb8_code(std::numeric_limits<float>::infinity()) == 255);
 }

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include <regex>
 #include <sstream>
 
+#include "cl/program_cache.hpp"
 #include "core/assets.hpp"
 #include "core/error.hpp"
 
@@ -102,6 +104,7 @@ std::string Runtime::find_kernel_dir(const std::string& requested) {
 
 Runtime::Runtime(const RuntimeOptions& options) {
     kernel_dir_ = find_kernel_dir(options.kernel_dir);
+    cache_dir_ = shadelab::program_cache_dir(options.program_cache);
 
     std::vector<cl::Platform> platforms;
     try {
@@ -169,8 +172,22 @@ Runtime::Runtime(const RuntimeOptions& options) {
         }
         context_ = cl::Context(device_);
         queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE);
+        device_identity_ = platform_.getInfo<CL_PLATFORM_NAME>() + "\n" + platform_.getInfo<CL_PLATFORM_VERSION>() +
+                           "\n" + device_.getInfo<CL_DEVICE_NAME>() + "\n" + device_.getInfo<CL_DEVICE_VERSION>() +
+                           "\n" + device_.getInfo<CL_DRIVER_VERSION>();
     } catch (const cl::Error& e) {
         rethrow_cl(e, "setting up the OpenCL device");
+    }
+}
+
+Runtime::~Runtime() {
+    try {
+        for (Stored& s : stored_) {
+            const std::vector<unsigned char> binary = binary_of(s.program);
+            if (!binary.empty() && binary.size() != s.bytes) write_program_cache_entry(cache_dir_, s.key, binary);
+        }
+    } catch (...) {
+        // The cache is an optimisation: a failure here costs the next run a build, nothing else.
     }
 }
 
@@ -179,19 +196,9 @@ std::string Runtime::device_description() const {
            device_.getInfo<CL_DEVICE_OPENCL_C_VERSION>() + ")";
 }
 
-cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
-                           const std::string& extra_options) {
-    std::string options = "-cl-std=CL1.2 -I " + kernel_dir_;
-    for (const auto& d : defines) options += " -D" + d;
-    if (!extra_options.empty()) options += " " + extra_options;
-    const std::string key = main_file + "|" + options;
-
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
-
-    const fs::path path = fs::path(kernel_dir_) / main_file;
+cl::Program Runtime::build_from_source(const std::string& path, const std::string& options) {
     std::ifstream in(path);
-    if (!in) throw Error("cannot read kernel source '" + path.string() + "': is the kernels/ folder complete?");
+    if (!in) throw Error("cannot read kernel source '" + path + "': is the kernels/ folder complete?");
     std::stringstream text;
     text << in.rdbuf();
 
@@ -199,7 +206,7 @@ cl::Program Runtime::build(const std::string& main_file, const std::vector<std::
     try {
         program = cl::Program(context_, text.str());
     } catch (const cl::Error& e) {
-        rethrow_cl(e, "creating program from '" + path.string() + "'");
+        rethrow_cl(e, "creating program from '" + path + "'");
     }
     try {
         program.build({device_}, options.c_str());
@@ -211,11 +218,77 @@ cl::Program Runtime::build(const std::string& main_file, const std::vector<std::
             log = "(no build log)";
         }
         // PoCL compiles a temporary copy of the source; name the real file so "file:line" can be followed.
-        log = std::regex_replace(log, std::regex(R"([^\s:'"]*tempfile_[A-Za-z0-9]+\.cl)"), path.string());
-        throw Error("OpenCL build of '" + path.string() + "' failed (" + cl_error_name(e.err()) + ") on " +
+        log = std::regex_replace(log, std::regex(R"([^\s:'"]*tempfile_[A-Za-z0-9]+\.cl)"), path);
+        throw Error("OpenCL build of '" + path + "' failed (" + cl_error_name(e.err()) + ") on " +
                     device_description() + " with options '" + options + "':\n" + log);
     }
+    return program;
+}
+
+// A program from a cached device binary; throws cl::Error when the driver refuses it.
+cl::Program Runtime::build_from_binary(const std::vector<unsigned char>& binary, const std::string& options) {
+    cl::Program::Binaries bins{binary};
+    std::vector<cl_int> status;
+    cl::Program program(context_, {device_}, bins, &status);
+    if (!status.empty() && status[0] != CL_SUCCESS) throw cl::Error(status[0], "clCreateProgramWithBinary");
+    program.build({device_}, options.c_str());
+    return program;
+}
+
+std::vector<unsigned char> Runtime::binary_of(const cl::Program& program) {
+    try {
+        const std::vector<std::vector<unsigned char>> bins = program.getInfo<CL_PROGRAM_BINARIES>();
+        return bins.size() == 1 ? bins[0] : std::vector<unsigned char>();
+    } catch (const cl::Error&) {
+        return {};   // the driver gives no binary: nothing to cache
+    }
+}
+
+cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
+                           const std::string& extra_options) {
+    std::string options = "-cl-std=CL1.2 -I " + kernel_dir_;
+    for (const auto& d : defines) options += " -D" + d;
+    if (!extra_options.empty()) options += " " + extra_options;
+    const std::string key = main_file + "|" + options;
+
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string path = (fs::path(kernel_dir_) / main_file).string();
+
+    cl::Program program;
+    std::string disk_key;
+    bool from_disk = false;
+    std::size_t loaded_bytes = 0;
+    if (!cache_dir_.empty()) {
+        if (kernel_tree_.empty()) kernel_tree_ = kernel_tree_text(kernel_dir_);
+        disk_key = program_cache_key(kernel_tree_, main_file, options, device_identity_);
+        std::vector<unsigned char> binary;
+        bool rejected = false;
+        std::string why;
+        if (read_program_cache_entry(cache_dir_, disk_key, binary, rejected, why)) {
+            try {
+                program = build_from_binary(binary, options);
+                from_disk = true;
+                loaded_bytes = binary.size();
+            } catch (const cl::Error&) {
+                rejected = true;   // the driver refuses it (another PoCL build, a damaged binary): rebuild
+            }
+        }
+        cache_rejected_ += rejected ? 1 : 0;
+    }
+    if (!from_disk) {
+        program = build_from_source(path, options);
+        if (!cache_dir_.empty()) {
+            const std::vector<unsigned char> binary = binary_of(program);
+            stored_.push_back({disk_key, program, write_program_cache_entry(cache_dir_, disk_key, binary) ? binary.size() : 0});
+        }
+    } else {
+        stored_.push_back({disk_key, program, loaded_bytes});
+    }
     ++builds_;
+    cache_hits_ += from_disk ? 1 : 0;
+    build_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cache_.emplace(key, program);
     return program;
 }

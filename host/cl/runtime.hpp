@@ -25,11 +25,19 @@ struct RuntimeOptions {
     std::string platform_substring;   // empty: env SHADELAB_CL_PLATFORM, else prefer PoCL
     int device_index = -1;            // -1: env SHADELAB_CL_DEVICE, else first CPU device
     std::string kernel_dir;           // empty: search as described above
+    std::string program_cache;        // empty: env SHADELAB_PROGRAM_CACHE, else the XDG cache folder;
+                                      // "off": no program-binary cache (see cl/program_cache.hpp)
 };
 
 class Runtime {
 public:
     explicit Runtime(const RuntimeOptions& options = {});
+    // Stores the programs of this runtime in the program-binary cache again where their binaries have grown
+    // since they were stored (PoCL adds the kernels it compiled at their first launch), so the next process
+    // skips that compilation too. Never throws.
+    ~Runtime();
+    Runtime(const Runtime&) = delete;
+    Runtime& operator=(const Runtime&) = delete;
 
     cl::Context& context() { return context_; }
     cl::CommandQueue& queue() { return queue_; }
@@ -44,7 +52,11 @@ public:
     cl::Program build(const std::string& main_file, const std::vector<std::string>& defines,
                       const std::string& extra_options = "");
 
-    std::size_t programs_built() const { return builds_; }
+    std::size_t programs_built() const { return builds_; }            // from source or from the cache
+    std::size_t programs_from_cache() const { return cache_hits_; }    // loaded from the program-binary cache
+    std::size_t cache_entries_rejected() const { return cache_rejected_; }   // stale/corrupt, rebuilt
+    double build_seconds() const { return build_seconds_; }            // wall time spent in build()
+    const std::string& program_cache_dir() const { return cache_dir_; }   // "" when the cache is off
 
     static std::string find_kernel_dir(const std::string& requested = {});
 
@@ -56,7 +68,21 @@ private:
     std::string kernel_dir_;
     std::mutex mutex_;
     std::map<std::string, cl::Program> cache_;
-    std::size_t builds_ = 0;
+    std::size_t builds_ = 0, cache_hits_ = 0, cache_rejected_ = 0;
+    double build_seconds_ = 0.0;
+    std::string cache_dir_;
+    std::string kernel_tree_;          // every kernel file's text, read at the first build (cache key)
+    std::string device_identity_;
+    struct Stored {
+        std::string key;
+        cl::Program program;
+        std::size_t bytes;   // binary size in the cache entry (0: none written)
+    };
+    std::vector<Stored> stored_;
+
+    cl::Program build_from_source(const std::string& path, const std::string& options);
+    cl::Program build_from_binary(const std::vector<unsigned char>& binary, const std::string& options);
+    std::vector<unsigned char> binary_of(const cl::Program& program);
 };
 
 }  // namespace shadelab

@@ -4,6 +4,9 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <memory>
 
 #include <OpenImageIO/imageio.h>
@@ -13,6 +16,8 @@
 #include "core/limits.hpp"
 #include "image/fits.hpp"
 #include "image/raster.hpp"
+#include "raster/big_buffer.hpp"
+#include "raster/parallel.hpp"
 
 namespace fs = std::filesystem;
 
@@ -30,22 +35,135 @@ double srgb_decode(double v) {
     return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
 }
 
+namespace {
+
+// Whether fragments [b, e) have strictly increasing pixel indices, each in [0, npix).
+bool strictly_increasing(const std::int32_t* pixel, std::size_t b, std::size_t e, std::size_t npix) {
+    for (std::size_t i = b; i < e; ++i)
+        if (pixel[i] < 0 || std::size_t(pixel[i]) >= npix || (i > b && pixel[i] <= pixel[i - 1])) return false;
+    return true;
+}
+
+}  // namespace
+
 Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
     if (fb.width <= 0 || fb.height <= 0)
         throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
     const std::size_t n = fb.size();
     if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
-    Image img(fb.width, fb.height, 4);
-    for (std::size_t p = 0; p < std::size_t(fb.width) * fb.height; ++p)
-        for (int c = 0; c < 4; ++c) img.pixels[p * 4 + c] = float(background[c]);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::size_t p = std::size_t(fb.pixel[i]);
-        img.pixels[p * 4 + 0] = rgb[i];
-        img.pixels[p * 4 + 1] = rgb[n + i];
-        img.pixels[p * 4 + 2] = rgb[2 * n + i];
-        img.pixels[p * 4 + 3] = 1.0f;
+    const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
+    Image img;
+    img.width = fb.width;
+    img.height = fb.height;
+    img.channels = 4;
+    resize_fresh(img.pixels, npix * 4);
+    const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
+    float* const out = img.pixels.data();
+    const std::int32_t* const pixel = fb.pixel.data();
+    // Rows in parallel when the fragments come in pixel order (as the rasteriser emits them): each thread
+    // fills its own pixel range and scatters the fragments that land in it, found by binary search.
+    const int threads = thread_count(0, npix / 65536);
+    std::vector<char> sorted(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
+        sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
+    });
+    const bool parallel = std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; });
+    auto fill = [&](std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1) {
+        for (std::size_t p = p0; p < p1; ++p)
+            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+        for (std::size_t i = f0; i < f1; ++i) {
+            const std::size_t p = std::size_t(pixel[i]);
+            out[p * 4 + 0] = rgb[i];
+            out[p * 4 + 1] = rgb[n + i];
+            out[p * 4 + 2] = rgb[2 * n + i];
+            out[p * 4 + 3] = 1.0f;
+        }
+    };
+    if (!parallel) {   // any order: one thread, later fragments win, as before
+        fill(0, npix, 0, 0);
+        for (std::size_t i = 0; i < n; ++i)
+            if (pixel[i] < 0 || std::size_t(pixel[i]) >= npix)
+                throw Error("internal: fragment " + std::to_string(i) + " has pixel index " + std::to_string(pixel[i]) +
+                            " outside the " + std::to_string(fb.width) + "x" + std::to_string(fb.height) + " image");
+        fill(0, 0, 0, n);
+        return img;
     }
+    run_parallel(threads, [&](int t) {
+        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
+        const auto f0 = std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel;
+        const auto f1 = std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel;
+        fill(p0, p1, std::size_t(f0), std::size_t(f1));
+    });
     return img;
+}
+
+// The 8-bit code lround(255 srgb_encode(v)) of every float, from thresholds: srgb_encode and the rounding are
+// monotonic, so code k is taken exactly by the floats v >= t[k], where t[k] is the least float whose code is
+// >= k, found once by bisection on the float's bit pattern (positive floats order as their bits do). A table
+// indexed by the top bits of v gives the code of the smallest float of its bucket; the thresholds inside
+// the bucket (at most a few) are stepped over. Same codes as evaluating the curve, which tests/test_image.cpp
+// checks on a sweep of every 97th float in [0, 1] and around every threshold.
+struct Srgb8Table {
+    static constexpr int kShift = 15;
+    float t[257];                                 // t[0] = 0 (unused), t[256] = +inf
+    std::vector<std::uint8_t> start;              // by bits >> kShift, for floats in [0, 1)
+
+    static int direct(float v) { return int(std::lround(srgb_encode(double(v)) * 255.0)); }
+    static float of_bits(std::uint32_t b) {
+        float f;
+        std::memcpy(&f, &b, sizeof f);
+        return f;
+    }
+    Srgb8Table() {
+        const std::uint32_t one = 0x3F800000u;   // 1.0f
+        t[0] = 0.0f;
+        t[256] = std::numeric_limits<float>::infinity();
+        for (int k = 1; k <= 255; ++k) {
+            std::uint32_t lo = 0, hi = one;       // code(lo) < k <= code(hi)
+            while (hi - lo > 1) {
+                const std::uint32_t mid = lo + (hi - lo) / 2;
+                (direct(of_bits(mid)) >= k ? hi : lo) = mid;
+            }
+            t[k] = of_bits(hi);
+        }
+        start.resize(one >> kShift);
+        for (std::uint32_t b = 0; b < (one >> kShift); ++b) start[b] = std::uint8_t(direct(of_bits(b << kShift)));
+    }
+    std::uint8_t code(float v) const {
+        if (!(v > 0.0f)) return 0;
+        if (v >= 1.0f) return 255;
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        int k = start[bits >> kShift];
+        while (v >= t[k + 1]) ++k;
+        return std::uint8_t(k);
+    }
+};
+
+const Srgb8Table& srgb8_table() {
+    static const Srgb8Table table;
+    return table;
+}
+
+std::uint8_t srgb8_code(float linear) { return srgb8_table().code(linear); }
+
+std::vector<unsigned char> encode_srgb8(const Image& img) {
+    const Srgb8Table& table = srgb8_table();
+    std::vector<unsigned char> px(img.pixels.size());
+    const std::size_t channels = std::size_t(img.channels), pixels = px.size() / std::max<std::size_t>(1, channels);
+    const bool alpha = img.channels == 4;
+    const int threads = thread_count(0, pixels / 65536);
+    run_parallel(threads, [&](int t) {
+        for (std::size_t p = split(pixels, threads, t), e = split(pixels, threads, t + 1); p < e; ++p)
+            for (std::size_t c = 0; c < channels; ++c) {
+                const std::size_t i = p * channels + c;
+                const float v = img.pixels[i];
+                px[i] = alpha && c == 3 ? static_cast<unsigned char>(std::lround(std::clamp(double(v), 0.0, 1.0) * 255.0))
+                                        : table.code(v);
+            }
+    });
+    return px;
 }
 
 Encoding encoding_for(const std::string& path) {
@@ -64,7 +182,8 @@ namespace {
 
 // Encodes `img` into `file` with OpenImageIO (8-bit sRGB or linear float, as `enc` says). Returns false with
 // OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s format.
-bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc, std::string& why) {
+bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc,
+                     const ImageWriteOptions& options, std::string& why) {
     auto out = OIIO::ImageOutput::create(file);
     if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
     OIIO::ImageSpec spec(img.width, img.height, img.channels,
@@ -75,16 +194,13 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
     // Colours are stored unassociated (straight) with alpha = coverage; tell the 8-bit writers not to
     // divide by alpha (EXR keeps OpenImageIO's associated convention; covered pixels have alpha 1 anyway).
     if (enc == Encoding::Srgb8) spec.attribute("oiio:UnassociatedAlpha", 1);
+    spec.attribute("png:compressionLevel", std::clamp(options.png_level, 0, 9));
+    if (std::string(out->format_name()) == "openexr") spec.attribute("compression", options.exr_compression);
 
     bool ok = out->open(file, spec);
     if (ok) {
         if (enc == Encoding::Srgb8) {
-            std::vector<unsigned char> px(img.pixels.size());
-            for (std::size_t i = 0; i < px.size(); ++i) {
-                const bool alpha = img.channels == 4 && i % 4 == 3;
-                const double v = alpha ? std::clamp(double(img.pixels[i]), 0.0, 1.0) : srgb_encode(img.pixels[i]);
-                px[i] = static_cast<unsigned char>(std::lround(v * 255.0));
-            }
+            const std::vector<unsigned char> px = encode_srgb8(img);
             ok = out->write_image(OIIO::TypeDesc::UINT8, px.data());
         } else {
             ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
@@ -97,7 +213,7 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
 
 }  // namespace
 
-void write_image(const std::string& path, const Image& img) {
+void write_image(const std::string& path, const Image& img, const ImageWriteOptions& options) {
     // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
     if (is_fits_path(path)) return write_fits(path, img);
     const Encoding enc = encoding_for(path);
@@ -108,14 +224,24 @@ void write_image(const std::string& path, const Image& img) {
         Image rgb(img.width, img.height, 3);
         for (std::size_t p = 0; p < std::size_t(img.width) * std::size_t(img.height); ++p)
             for (int c = 0; c < 3; ++c) rgb.pixels[p * 3 + c] = img.pixels[p * std::size_t(img.channels) + std::size_t(img.channels >= 3 ? c : 0)];
-        return write_image(path, rgb);
+        return write_image(path, rgb, options);
     }
+    // Counted on all threads: at 4096x4096 this is a pass over 256 MB before any encoding.
+    const std::size_t nvalues = img.pixels.size();
+    const int threads = thread_count(0, nvalues / (1 << 20));
+    std::vector<std::size_t> bad_of(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        std::size_t b = 0;
+        for (std::size_t i = split(nvalues, threads, t), e = split(nvalues, threads, t + 1); i < e; ++i)
+            b += std::isfinite(img.pixels[i]) ? 0 : 1;
+        bad_of[std::size_t(t)] = b;
+    });
     std::size_t bad = 0;
-    for (float v : img.pixels) bad += std::isfinite(v) ? 0 : 1;
+    for (std::size_t b : bad_of) bad += b;
     if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
     // The temporary file keeps the extension: OpenImageIO picks the format from it.
     write_file_atomically(
-        path, "image", [&](const std::string& tmp, std::string& why) { return write_with_oiio(tmp, path, img, enc, why); },
+        path, "image", [&](const std::string& tmp, std::string& why) { return write_with_oiio(tmp, path, img, enc, options, why); },
         fs::path(path).extension().string());
 }
 

@@ -1,5 +1,6 @@
 // Images: linear float RGBA in memory; written and read with OpenImageIO.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -27,15 +28,30 @@ double srgb_decode(double encoded);  // encoded [0,1] -> linear
 
 // Scatters shaded fragments (three planes of n floats, as Shader::shade returns) into an RGBA image of
 // fb.width x fb.height. Covered pixels get alpha 1; the rest get `background` (rgb linear, a alpha).
+// Done in parallel when the fragments are in pixel order (as the rasteriser emits them), else on one thread.
 Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background);
+
+// The 8-bit sRGB code of a linear value, lround(255 srgb_encode(v)) (0 for NaN and v <= 0, 255 for v >= 1),
+// from a table of the curve's exact thresholds. encode_srgb8 codes every value of an image so (alpha, the
+// 4th of 4 channels, is clamped to [0, 1] and scaled, not encoded), on all hardware threads.
+std::uint8_t srgb8_code(float linear);
+std::vector<unsigned char> encode_srgb8(const Image& img);
 
 enum class Encoding { Linear, Srgb8 };
 // .png .jpg .jpeg .bmp .tga .webp: 8-bit sRGB; .exr .hdr .tif .tiff .fits: linear float (.hdr without alpha).
 Encoding encoding_for(const std::string& path);
 
+// Writer settings. The defaults are the fastest settings measured to keep files reasonable (docs/speed.md,
+// "Image writes"; bench/bench_e2e_process.cpp prints them against oiiotool): PNG zlib level and EXR compression.
+// OpenImageIO's own thread count is left at its default (all hardware threads; it is what EXR compression uses).
+struct ImageWriteOptions {
+    int png_level = 1;                    // zlib 0 (none) .. 9 (smallest); OpenImageIO's default is 6
+    std::string exr_compression = "zips"; // OpenEXR: none, rle, zips, zip, piz, pxr24, b44, dwaa, ...; OIIO's is zip
+};
+
 // FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
 // leaves a truncated image. Refuses (shadelab::Error) images holding NaN or Inf: they are bugs upstream.
-void write_image(const std::string& path, const Image& img);
+void write_image(const std::string& path, const Image& img, const ImageWriteOptions& options = {});
 // The formats write_image takes, for --help texts and errors: one list, so no command's help can drift from it.
 constexpr const char* kOutputFormats = ".png .jpg .bmp .tga .webp (sRGB 8-bit) or .exr .hdr .tif .fits (linear float)";
 

@@ -5,18 +5,22 @@
 //   outside_frustum     trivial rejection (all three vertices beyond one frustum plane);
 //   clip_polygon        Sutherland-Hodgman against the near plane (and, rarely, a far-off guard band);
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
-//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box, and
-//                       binning into strips of rows;
-//   raster_band         edge functions at pixel centres + depth test, strip by strip (each strip's depth and
-//                       owner buffers stay in cache), into the visibility buffer (triangle id per pixel);
-//   emit_band           perspective-correct interpolation once per covered pixel, for the triangle that won
-//                       it (deferred resolve), in pixel order.
-// Threads: vertices and triangles are split into contiguous ranges for set-up, and the image into horizontal
-// bands for rasterisation and emission; every per-pixel result is computed the same way whatever the split,
-// so the output is bit-identical for any thread count.
+//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box;
+//   bin_chunk           each triangle listed in the 128 x 64 pixel tiles its bounding box touches;
+//   raster_tile         per tile: edge functions at pixel centres + depth test (depth_span, a loop without
+//                       branches that vectorises) into the visibility buffer (triangle id per pixel), with
+//                       the tile's depth and owner buffers in cache;
+//   emit_rows/emit_run  perspective-correct interpolation once per covered pixel, for the triangle that won
+//                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time as a
+//                       vectorised loop (emit_pixel, the one-pixel path, takes the rare fallbacks).
+// Threads: vertices and triangles are split into contiguous ranges for set-up and binning; threads take
+// tiles, then bands of tile rows for emission, from a shared counter. Every per-pixel result is computed
+// the same way whatever the split, so the output is bit-identical for any thread count.
 #include "raster/raster.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <iterator>
@@ -29,6 +33,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "raster/big_buffer.hpp"
+#include "raster/parallel.hpp"
 
 namespace shadelab {
 
@@ -37,6 +43,10 @@ namespace {
 constexpr int kMaxImageSide = 16384;
 constexpr int kSubBits = 8;                                   // sub-pixel precision, as GPUs snap
 constexpr std::int64_t kSub = std::int64_t(1) << kSubBits;    // sub-pixel steps per pixel
+using clock_type = std::chrono::steady_clock;
+double ms_between(clock_type::time_point a, clock_type::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
 constexpr int kMaxPolygon = 9;                                // triangle clipped by 5 planes: <= 8 vertices
 
 // ------------------------------------------------------------------------------------------------------
@@ -87,28 +97,6 @@ void validate(const Mesh& mesh, const Camera& cam, const RasterOptions& o) {
                 fail(name + ": triangle " + std::to_string(t) + " refers to vertex " +
                      std::to_string(mesh.triangles[t][k]) + ", but there are only " + std::to_string(nv) + " vertices");
 }
-
-// ------------------------------------------------------------------------------------------------------
-// Threads
-
-// Runs fn(i) for i in [0, n): i = 0 on the calling thread, the others on their own threads. If a thread
-// cannot be started, its share runs on the calling thread (same results, just slower).
-template <class Fn>
-void run_parallel(int n, const Fn& fn) {
-    std::vector<std::thread> pool;
-    int started = 1;
-    try {
-        pool.reserve(std::size_t(n > 1 ? n - 1 : 0));
-        for (; started < n; ++started) pool.emplace_back([&fn, started] { fn(started); });
-    } catch (...) {
-    }
-    fn(0);
-    for (int i = started; i < n; ++i) fn(i);
-    for (auto& t : pool) t.join();
-}
-
-// [first, last) of part i when [0, n) is split into `parts` contiguous ranges.
-std::size_t split(std::size_t n, int parts, int i) { return n * std::size_t(i) / std::size_t(parts); }
 
 // ------------------------------------------------------------------------------------------------------
 // Geometry stages
@@ -390,9 +378,46 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const ScreenV
 }
 
 // ------------------------------------------------------------------------------------------------------
-// Rasterisation into the visibility buffer (depth + winning triangle), one band of rows per thread.
+// Rasterisation into the visibility buffer (depth + winning triangle), tile by tile.
+//
+// Binning: the image is cut into tiles of kTileW x kTileH pixels; set-up lists each triangle in every tile its
+// bounding box touches (per chunk, in id order). A thread takes the next tile, clears its depth and owners
+// and draws the tile's triangles chunk by chunk - ascending ids, as one walk of the whole mesh would - with
+// the tile's depth and owner buffers (kTileW x kTileH x 12 bytes) in cache. Every pixel sees the same
+// triangles in the same order with the same exact integer edge functions and the same depth, whatever the
+// tile order or thread count, so coverage and ids are bit-identical to drawing the whole mesh in one pass.
 
+constexpr int kTileW = 128, kTileH = 64;
 constexpr int kSpanMinWidth = 12;   // rows at least this wide get their covered span solved per row
+
+struct Tiling {
+    int width = 0, height = 0, tiles_x = 0, tiles_y = 0;
+    Tiling(int w, int h) : width(w), height(h), tiles_x((w + kTileW - 1) / kTileW), tiles_y((h + kTileH - 1) / kTileH) {}
+    int count() const { return tiles_x * tiles_y; }
+};
+
+// One chunk's triangles per tile, as compressed rows: the triangles of tile k are ids[start[k] .. start[k+1]),
+// as indices into the chunk (ascending).
+struct Bins {
+    std::vector<std::uint32_t> start;
+    std::vector<std::int32_t> ids;
+};
+
+Bins bin_chunk(const Chunk& chunk, const Tiling& g) {
+    Bins b;
+    b.start.assign(std::size_t(g.count()) + 1, 0);
+    auto each_tile = [&](const RasterTri& t, auto&& fn) {
+        for (int ty = t.min_y / kTileH; ty <= t.max_y / kTileH; ++ty)
+            for (int tx = t.min_x / kTileW; tx <= t.max_x / kTileW; ++tx) fn(std::size_t(ty * g.tiles_x + tx));
+    };
+    for (const RasterTri& t : chunk.raster) each_tile(t, [&](std::size_t k) { ++b.start[k + 1]; });
+    for (std::size_t k = 0; k < std::size_t(g.count()); ++k) b.start[k + 1] += b.start[k];
+    b.ids.resize(b.start.back());
+    std::vector<std::uint32_t> next(b.start.begin(), b.start.end() - 1);
+    for (std::size_t i = 0; i < chunk.raster.size(); ++i)
+        each_tile(chunk.raster[i], [&](std::size_t k) { b.ids[next[k]++] = std::int32_t(i); });
+    return b;
+}
 
 // The k in [0, n) with e + step * k >= 0 (one edge function along a row), as [first, last]; empty if first > last.
 void edge_span(std::int64_t e, std::int64_t step, std::int64_t n, std::int64_t& first, std::int64_t& last) {
@@ -407,38 +432,50 @@ void edge_span(std::int64_t e, std::int64_t step, std::int64_t n, std::int64_t& 
     last = std::min(last, n - 1);
 }
 
-// The visibility buffer of one band as draw_triangle updates it. A pixel's depth is valid only where its
-// owner is >= 0 (no pixel is cleared to +inf: an unowned pixel takes any surface in front of the far plane).
-struct BandBuffer {
-    int width;
-    double* depth;          // NDC z of the nearest surface so far
-    std::int32_t* owner;    // its set-up triangle id, -1 for none
-    glm::ivec2* extent;     // per row: first and one past the last owned pixel (empty when x >= y)
-    std::size_t covered;    // owned pixels
+// Per row of one tile: the span [lo, hi) holding every pixel a triangle covered (a superset of the owned
+// ones: emission skips owner -1) and the number of owned pixels.
+struct RowSpan {
+    std::int32_t lo, hi, covered;
 };
 
-// Depth test of one covered pixel centre at NDC depth z: far plane (the near plane was clipped), then
-// nearest wins; on an exact tie the earlier, lower-index triangle keeps the pixel (strict <, ids ascending).
-// Tracks the row's owned span [lo, hi].
-inline void depth_test(BandBuffer& b, double* d, std::int32_t* o, int x, double z, std::int32_t tid, int& lo, int& hi) {
-    if (!(z <= 1.0)) return;
-    const std::int32_t prev = o[x];
-    if (prev < 0 || z < d[x]) {
-        d[x] = z;
-        o[x] = tid;
-        b.covered += prev < 0 ? 1 : 0;
-        lo = std::min(lo, x);
-        hi = std::max(hi, x);
+// The visibility buffer as draw_triangle updates it, restricted to one tile. Depth is +inf where no
+// triangle has been drawn yet (cleared with the owners when the tile starts).
+struct TileBuffer {
+    int width;
+    int x0, x1, y0, y1;       // the tile: [x0, x1) x [y0, y1)
+    double* depth;            // NDC z of the nearest surface so far
+    std::int32_t* owner;      // its set-up triangle id, -1 for none
+    RowSpan* rows;            // rows[y - y0]
+};
+
+// Depth test of the covered pixel centres x in [xs, xe] of one row at NDC depth z = zy + dzdx (x + 0.5 - x0):
+// far plane (the near plane was clipped), then nearest wins; on an exact tie the earlier, lower-index
+// triangle keeps the pixel (strict <, ids ascending). Written without branches so that it vectorises;
+// depth starts at +inf, so an unowned pixel takes any z <= 1. Returns the pixels newly owned.
+inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o, int xs, int xe, double zy,
+                               double dzdx, double x0, std::int32_t tid) {
+    std::int32_t newly = 0;
+    for (int x = xs; x <= xe; ++x) {
+        const double z = zy + dzdx * (double(x) + 0.5 - x0);
+        const std::int32_t prev = o[x];
+        const bool take = (z <= 1.0) & (z < d[x]);
+        newly += std::int32_t(take & (prev < 0));
+        d[x] = take ? z : d[x];
+        o[x] = take ? tid : prev;
     }
+    return newly;
 }
 
-// Draws triangle `t` (set-up id `tid`) over rows [ya, yb] into the frame's depth and owner buffers.
+// Draws triangle `t` (set-up id `tid`) into the tile of `buf`.
 // Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in sub-pixels, is
 // E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per pixel in x. A pixel is inside
 // when E_i > 0, or E_i == 0 on a top-left edge; subtracting 1 from the other edges turns both into E_i >= 0
 // (integers). Narrow rows test each pixel; wide rows solve E_i >= 0 for their covered span (the same exact
 // integer inequalities, so the same pixels).
-void draw_triangle(const RasterTri& t, std::int32_t tid, int ya, int yb, BandBuffer& buf) {
+void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
+    const int ya = std::max(int(t.min_y), buf.y0), yb = std::min(int(t.max_y), buf.y1 - 1);
+    const int min_x = std::max(int(t.min_x), buf.x0), max_x = std::min(int(t.max_x), buf.x1 - 1);
+    if (ya > yb || min_x > max_x) return;
     std::int64_t ax[3], ay[3], dx[3], dy[3], bias[3];
     for (int i = 0; i < 3; ++i) {
         const int a = (i + 1) % 3, b = (i + 2) % 3;
@@ -450,7 +487,6 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, int ya, int yb, BandBuf
     }
     const std::int64_t step0 = -dy[0] * kSub, step1 = -dy[1] * kSub, step2 = -dy[2] * kSub;
     const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
-    const int min_x = t.min_x, max_x = t.max_x;
     const std::int64_t n = std::int64_t(max_x) - min_x + 1;
     const std::int64_t cx = std::int64_t(min_x) * kSub + kSub / 2;
     const double dzdx = t.dzdx;
@@ -461,77 +497,66 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, int ya, int yb, BandBuf
     std::int64_t row_e2 = dx[2] * (cy - ay[2]) - dy[2] * (cx - ax[2]) - bias[2];
     const std::int64_t down0 = dx[0] * kSub, down1 = dx[1] * kSub, down2 = dx[2] * kSub;
     for (int y = ya; y <= yb; ++y, row_e0 += down0, row_e1 += down1, row_e2 += down2) {
-        std::int64_t e0 = row_e0, e1 = row_e1, e2 = row_e2;
         // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so it does not
-        // depend on where a band or strip starts.
+        // depend on where a tile starts.
         const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
         double* const d = buf.depth + std::size_t(y) * std::size_t(buf.width);
         std::int32_t* const o = buf.owner + std::size_t(y) * std::size_t(buf.width);
-        int lo = buf.width, hi = -1;
+        RowSpan& span = buf.rows[y - buf.y0];
         if (n < kSpanMinWidth) {
+            std::int64_t e0 = row_e0, e1 = row_e1, e2 = row_e2;
             for (int x = min_x; x <= max_x; ++x, e0 += step0, e1 += step1, e2 += step2)
-                if ((e0 | e1 | e2) >= 0) depth_test(buf, d, o, x, zy + dzdx * (double(x) + 0.5 - x0), tid, lo, hi);
+                if ((e0 | e1 | e2) >= 0) {
+                    span.covered += depth_span(d, o, x, x, zy, dzdx, x0, tid);
+                    span.lo = std::min(span.lo, x);
+                    span.hi = std::max(span.hi, x + 1);
+                }
         } else {
             std::int64_t first = 0, last = n - 1;
-            edge_span(e0, step0, n, first, last);
-            edge_span(e1, step1, n, first, last);
-            edge_span(e2, step2, n, first, last);
-            for (int x = min_x + int(first), xe = min_x + int(last); x <= xe; ++x)
-                depth_test(buf, d, o, x, zy + dzdx * (double(x) + 0.5 - x0), tid, lo, hi);
-        }
-        if (lo <= hi) {
-            glm::ivec2& ext = buf.extent[y];
-            ext = glm::ivec2(std::min(ext.x, lo), std::max(ext.y, hi + 1));
+            edge_span(row_e0, step0, n, first, last);
+            edge_span(row_e1, step1, n, first, last);
+            edge_span(row_e2, step2, n, first, last);
+            if (first > last) continue;
+            const int xs = min_x + int(first), xe = min_x + int(last);
+            span.covered += depth_span(d, o, xs, xe, zy, dzdx, x0, tid);
+            span.lo = std::min(span.lo, xs);
+            span.hi = std::max(span.hi, xe + 1);
         }
     }
 }
 
-// Rasterises every triangle (ids in mesh order: chunk by chunk) over rows [y_begin, y_end) of the visibility
-// buffer (see BandBuffer), which this call also initialises (the band's thread touches the owners first).
-// Returns the number of covered pixels in the band. `extent[y]` gets the first and one past the last
-// covered pixel of row y, so that emission skips the empty parts of each row.
-std::size_t raster_band(const std::vector<Chunk>& chunks, int width, int y_begin, int y_end, double* depth,
-                        std::int32_t* owner, glm::ivec2* extent) {
-    const std::size_t p_begin = std::size_t(y_begin) * std::size_t(width), p_end = std::size_t(y_end) * std::size_t(width);
-    std::fill(owner + p_begin, owner + p_end, -1);
-    std::fill(extent + y_begin, extent + y_end, glm::ivec2(width, 0));
-    BandBuffer buf{width, depth, owner, extent, 0};
-    std::int32_t id = 0;
-    for (const Chunk& chunk : chunks)
-        for (const RasterTri& t : chunk.raster) {
-            const std::int32_t tid = id++;
-            const int ya = std::max(int(t.min_y), y_begin), yb = std::min(int(t.max_y), y_end - 1);
-            if (ya <= yb) draw_triangle(t, tid, ya, yb, buf);
-        }
-    return buf.covered;
-}
+struct TileContext {
+    const Tiling* tiling;
+    const std::vector<Chunk>* chunks;
+    const std::vector<Bins>* bins;
+    const std::vector<std::int32_t>* first_id;
+    double* depth;
+    std::int32_t* owner;
+    RowSpan* spans;     // spans[tx * height + y]: row y within tile column tx
+};
 
-// Band boundaries (rows) giving each thread about the same work: the pixels of every triangle's bounding
-// box, row by row, plus a share per row for clearing and scanning it. Only the split depends on the scene;
-// what each pixel gets never depends on the split.
-std::vector<int> balanced_bands(const std::vector<Chunk>& chunks, int width, int height, int threads) {
-    std::vector<std::int64_t> work(std::size_t(height) + 1, 0);   // difference array over rows
-    for (const Chunk& chunk : chunks)
-        for (const RasterTri& t : chunk.raster) {
-            const std::int64_t w = std::int64_t(t.max_x) - t.min_x + 1;
-            work[std::size_t(t.min_y)] += w;
-            work[std::size_t(t.max_y) + 1] -= w;
+// Clears tile k and draws its triangles, chunk by chunk (ascending ids).
+void raster_tile(const TileContext& c, int k) {
+    const Tiling& g = *c.tiling;
+    const int tx = k % g.tiles_x, ty = k / g.tiles_x;
+    TileBuffer buf{g.width, tx * kTileW, std::min(g.width, (tx + 1) * kTileW), ty * kTileH,
+                   std::min(g.height, (ty + 1) * kTileH), c.depth, c.owner,
+                   c.spans + std::size_t(tx) * std::size_t(g.height) + std::size_t(ty * kTileH)};
+    for (int y = buf.y0; y < buf.y1; ++y) {
+        const std::size_t row = std::size_t(y) * std::size_t(g.width);
+        std::fill(c.depth + row + buf.x0, c.depth + row + buf.x1, std::numeric_limits<double>::infinity());
+        std::fill(c.owner + row + buf.x0, c.owner + row + buf.x1, -1);
+        buf.rows[y - buf.y0] = RowSpan{buf.x1, buf.x0, 0};
+    }
+    for (std::size_t ci = 0; ci < c.chunks->size(); ++ci) {
+        const Chunk& chunk = (*c.chunks)[ci];
+        const Bins& b = (*c.bins)[ci];
+        const std::int32_t first = (*c.first_id)[ci];
+        for (std::uint32_t i = b.start[std::size_t(k)]; i < b.start[std::size_t(k) + 1]; ++i) {
+            const std::int32_t local = b.ids[i];
+            draw_triangle(chunk.raster[std::size_t(local)], first + local, buf);
         }
-    std::int64_t running = 0, total = 0;
-    for (int y = 0; y < height; ++y) {
-        running += work[std::size_t(y)];
-        work[std::size_t(y)] = running + width / 4 + 1;
-        total += work[std::size_t(y)];
     }
-    std::vector<int> bands(std::size_t(threads) + 1, height);
-    bands[0] = 0;
-    std::int64_t done = 0;
-    int next = 1;
-    for (int y = 0; y < height && next < threads; ++y) {
-        done += work[std::size_t(y)];
-        while (next < threads && double(done) * threads >= double(total) * next) bands[std::size_t(next++)] = y + 1;
-    }
-    return bands;
 }
 
 // ------------------------------------------------------------------------------------------------------
@@ -618,7 +643,8 @@ struct EmitContext {
     const std::vector<Chunk>* chunks;
     const std::vector<std::int32_t>* first_id;   // first set-up triangle id of each chunk (+ total)
     const std::int32_t* owner;
-    const glm::ivec2* extent;   // covered span of each row
+    const RowSpan* spans;       // per tile column and row: the covered span (see raster_tile)
+    int tiles_x;
     glm::dvec3 eye, forward;
     bool flip;
     int width, height;
@@ -691,60 +717,159 @@ Interpolated interpolate(const EmitContext& c, const Resolve& r, double X, doubl
     return v;
 }
 
-// Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on.
-void emit_band(const EmitContext& c, int y_begin, int y_end, std::size_t at, FragmentBuffer& fb) {
-    // A triangle's pixels come in runs on a few consecutive rows: a small direct-mapped cache of Resolves
-    // (by triangle id) sets each triangle up about once per band.
-    constexpr std::size_t kCache = 1024;
-    std::vector<Resolve> cache(kCache);
-    for (Resolve& r : cache) r.id = -1;
-    float *const px = fb.px.data(), *const py = fb.py.data(), *const pz = fb.pz.data();
-    float *const nx = fb.nx.data(), *const ny = fb.ny.data(), *const nz = fb.nz.data();
-    float *const depth = fb.depth.data(), *const b1 = fb.b1.data(), *const b2 = fb.b2.data();
-    std::int32_t *const pixel = fb.pixel.data(), *const triangle = fb.triangle.data();
-    for (int y = y_begin; y < y_end; ++y) {
-        const std::size_t row = std::size_t(y) * std::size_t(c.width);
-        const std::int32_t* const owner = c.owner + row;
-        for (int x = c.extent[y].x, xe = c.extent[y].y; x < xe; ++x) {
-            const std::int32_t id = owner[x];
-            if (id < 0) continue;
-            Resolve& r = cache[std::size_t(id) % kCache];
-            if (r.id != id) r = resolve_of(corners_of(c, id), id);
-            const Interpolated v = interpolate(c, r, double(x) + 0.5 - r.x0, double(y) + 0.5 - r.y0);
-            const glm::dvec3& P = v.P;
-            glm::dvec3 N = v.N;
-            const double len = glm::length(N);
-            if (len > 0.0 && std::isfinite(len)) {
-                N *= 1.0 / len;
-            } else {   // opposite vertex normals cancel here: fall back to the face normal (mesh winding)
-                const Mesh& m = *c.mesh;
-                const glm::u32vec3& tri = m.triangles[std::size_t(r.mesh_triangle)];
-                N = glm::normalize(glm::cross(m.positions[tri[1]] - m.positions[tri[0]], m.positions[tri[2]] - m.positions[tri[0]]));
-                if (!finite(N)) N = -c.forward;
-            }
-            if (c.flip && glm::dot(N, c.eye - P) < 0.0) N = -N;
-            // Depth: view-space distance along the camera axis (-z_view), from the interpolated position.
-            const double d = glm::dot(P - c.eye, c.forward);
+// Writes fragment `at` of `fb` for pixel (x, y), won by the triangle of `r`: the reference path, one pixel
+// at a time, with every fallback (degenerate triangle, vanishing denominator, cancelling normals).
+void emit_pixel(const EmitContext& c, const Resolve& r, int x, int y, std::size_t at, FragmentBuffer& fb) {
+    const Interpolated v = interpolate(c, r, double(x) + 0.5 - r.x0, double(y) + 0.5 - r.y0);
+    const glm::dvec3& P = v.P;
+    glm::dvec3 N = v.N;
+    const double len = glm::length(N);
+    if (len > 0.0 && std::isfinite(len)) {
+        N *= 1.0 / len;
+    } else {   // opposite vertex normals cancel here: fall back to the face normal (mesh winding)
+        const Mesh& m = *c.mesh;
+        const glm::u32vec3& tri = m.triangles[std::size_t(r.mesh_triangle)];
+        N = glm::normalize(glm::cross(m.positions[tri[1]] - m.positions[tri[0]], m.positions[tri[2]] - m.positions[tri[0]]));
+        if (!finite(N)) N = -c.forward;
+    }
+    if (c.flip && glm::dot(N, c.eye - P) < 0.0) N = -N;
+    // Depth: view-space distance along the camera axis (-z_view), from the interpolated position.
+    const double d = glm::dot(P - c.eye, c.forward);
+    fb.px[at] = float(P.x);
+    fb.py[at] = float(P.y);
+    fb.pz[at] = float(P.z);
+    fb.nx[at] = float(N.x);
+    fb.ny[at] = float(N.y);
+    fb.nz[at] = float(N.z);
+    fb.pixel[at] = std::int32_t(std::size_t(y) * std::size_t(c.width) + std::size_t(x));
+    fb.depth[at] = float(d);
+    fb.triangle[at] = r.mesh_triangle;
+    fb.b1[at] = float(v.b.y);
+    fb.b2[at] = float(v.b.z);
+}
 
-            px[at] = float(P.x);
-            py[at] = float(P.y);
-            pz[at] = float(P.z);
-            nx[at] = float(N.x);
-            ny[at] = float(N.y);
-            nz[at] = float(N.z);
-            pixel[at] = std::int32_t(row + std::size_t(x));
-            depth[at] = float(d);
-            triangle[at] = r.mesh_triangle;
-            b1[at] = float(v.b.y);
-            b2[at] = float(v.b.z);
-            ++at;
+inline bool finite_d(double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); }
+
+// Writes the fragments of pixels [xa, xb) of row y, all won by the triangle of `r`, from index `at` on: the
+// same operations as emit_pixel in the same order (no fused multiply-adds: the host is built with
+// -ffp-contract=off), as one loop without branches that the compiler vectorises; the few pixels that need a
+// fallback are flagged and redone by emit_pixel.
+void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std::size_t at, FragmentBuffer& fb) {
+    if (r.degenerate) {
+        for (int x = xa; x < xb; ++x) emit_pixel(c, r, x, y, at + std::size_t(x - xa), fb);
+        return;
+    }
+    constexpr int kBlock = 64;
+    float *__restrict const px = fb.px.data() + at, *__restrict const py = fb.py.data() + at;
+    float *__restrict const pz = fb.pz.data() + at, *__restrict const nx = fb.nx.data() + at;
+    float *__restrict const ny = fb.ny.data() + at, *__restrict const nz = fb.nz.data() + at;
+    float *__restrict const depth = fb.depth.data() + at, *__restrict const b1 = fb.b1.data() + at;
+    float *__restrict const b2 = fb.b2.data() + at;
+    std::int32_t *__restrict const pixel = fb.pixel.data() + at, *__restrict const triangle = fb.triangle.data() + at;
+    const double Y = double(y) + 0.5 - r.y0, x0 = r.x0;
+    const double ex = c.eye.x, ey = c.eye.y, ez = c.eye.z, fx = c.forward.x, fy = c.forward.y, fz = c.forward.z;
+    const Affine q = r.q, P0 = r.P[0], P1 = r.P[1], P2 = r.P[2], N0 = r.N[0], N1 = r.N[1], N2 = r.N[2], B1 = r.b1, B2 = r.b2;
+    const bool flip = c.flip;
+    const std::int32_t tri = r.mesh_triangle;
+    const std::int32_t row = std::int32_t(std::size_t(y) * std::size_t(c.width));
+    for (int b0 = xa; b0 < xb; b0 += kBlock) {
+        const int n = std::min(kBlock, xb - b0);
+        const int o = b0 - xa;
+        std::int32_t fix[kBlock];
+        for (int i = 0; i < n; ++i) {
+            const double X = double(b0 + i) + 0.5 - x0;
+            const double s = q.at(X, Y);
+            const double inv = 1.0 / s;
+            const double Px = P0.at(X, Y) * inv, Py = P1.at(X, Y) * inv, Pz = P2.at(X, Y) * inv;
+            const double sign = s < 0.0 ? -1.0 : 1.0;   // -N for s < 0: negation is exact, as in interpolate()
+            double Nx = N0.at(X, Y) * sign, Ny = N1.at(X, Y) * sign, Nz = N2.at(X, Y) * sign;
+            const double len = std::sqrt(Nx * Nx + Ny * Ny + Nz * Nz);
+            const double k = 1.0 / len;
+            Nx *= k;
+            Ny *= k;
+            Nz *= k;
+            const double facing = Nx * (ex - Px) + Ny * (ey - Py) + Nz * (ez - Pz);
+            const double turn = (flip & (facing < 0.0)) ? -1.0 : 1.0;
+            Nx *= turn;
+            Ny *= turn;
+            Nz *= turn;
+            fix[i] = std::int32_t(!(finite_d(inv) & (len > 0.0) & finite_d(len)));
+            px[o + i] = float(Px);
+            py[o + i] = float(Py);
+            pz[o + i] = float(Pz);
+            nx[o + i] = float(Nx);
+            ny[o + i] = float(Ny);
+            nz[o + i] = float(Nz);
+            depth[o + i] = float((Px - ex) * fx + (Py - ey) * fy + (Pz - ez) * fz);
+            b1[o + i] = float(B1.at(X, Y) * inv);
+            b2[o + i] = float(B2.at(X, Y) * inv);
+            pixel[o + i] = row + b0 + i;
+            triangle[o + i] = tri;
+        }
+        for (int i = 0; i < n; ++i)
+            if (fix[i]) emit_pixel(c, r, b0 + i, y, at + std::size_t(o + i), fb);
+    }
+}
+
+// Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on, run by run
+// (consecutive pixels won by the same triangle). A small direct-mapped cache of Resolves (by triangle id)
+// sets each triangle up about once per band of rows.
+void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, int y_end, std::size_t at,
+               FragmentBuffer& fb) {
+    for (int y = y_begin; y < y_end; ++y) {
+        const std::int32_t* const owner = c.owner + std::size_t(y) * std::size_t(c.width);
+        for (int tx = 0; tx < c.tiles_x; ++tx) {
+            const RowSpan& span = c.spans[std::size_t(tx) * std::size_t(c.height) + std::size_t(y)];
+            for (int x = span.lo; x < span.hi;) {
+                const std::int32_t id = owner[x];
+                if (id < 0) {
+                    ++x;
+                    continue;
+                }
+                int e = x + 1;
+                while (e < span.hi && owner[e] == id) ++e;
+                Resolve& r = cache[std::size_t(id) % cache.size()];
+                if (r.id != id) r = resolve_of(corners_of(c, id), id);
+                emit_run(c, r, y, x, e, at, fb);
+                at += std::size_t(e - x);
+                x = e;
+            }
         }
     }
+}
+
+// The visibility buffer's memory, kept per calling thread from one frame to the next: at 4096 x 4096 it is
+// 200 MB, and fresh pages cost a page fault each (a third of a frame's time in a measured run). Every
+// byte is written before it is read in each frame (raster_tile clears its tile), so reuse changes nothing.
+struct Scratch {
+    std::unique_ptr<double[]> depth;
+    std::unique_ptr<std::int32_t[]> owner;
+    std::unique_ptr<RowSpan[]> spans;
+    std::size_t pixels = 0, rows = 0;
+};
+
+Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
+    thread_local Scratch s;
+    if (pixels > s.pixels) {
+        s.depth.reset();
+        s.owner.reset();
+        s.depth.reset(new double[pixels]);
+        s.owner.reset(new std::int32_t[pixels]);
+        advise_huge_pages(s.depth.get(), pixels * sizeof(double));
+        advise_huge_pages(s.owner.get(), pixels * sizeof(std::int32_t));
+        s.pixels = pixels;
+    }
+    if (rows > s.rows) {
+        s.spans.reset(new RowSpan[rows]);
+        s.rows = rows;
+    }
+    return s;
 }
 
 }  // namespace
 
 FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOptions& options, RasterStats* stats) {
+    const auto t0 = clock_type::now();
     validate(mesh, camera, options);
     const int W = options.width, H = options.height;
     int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -787,31 +912,51 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
         first_id[i + 1] = first_id[i] + std::int32_t(chunks[i].raster.size());
     }
 
-    // 3. Rasterise into the visibility buffer, a band of rows per thread (each owns its rows: no locks).
-    const std::size_t npix = std::size_t(W) * std::size_t(H);
-    std::unique_ptr<double[]> depth(new double[npix]);   // NDC z of the nearest surface so far
-    std::unique_ptr<std::int32_t[]> owner(new std::int32_t[npix]);
-    const std::vector<int> bands = balanced_bands(chunks, W, H, threads);
-    auto band = [&](int i) { return bands[std::size_t(i)]; };
-    std::vector<std::size_t> covered(std::size_t(threads), 0);
-    std::vector<glm::ivec2> extent(static_cast<std::size_t>(H));
-    run_parallel(threads, [&](int i) {
-        covered[std::size_t(i)] = raster_band(chunks, W, band(i), band(i + 1), depth.get(), owner.get(), extent.data());
-    });
+    const auto t_setup = clock_type::now();
 
-    // 4. Emit fragments in pixel order: each band writes its own slice of the buffer.
-    std::vector<std::size_t> at(std::size_t(threads) + 1, 0);
-    for (std::size_t i = 0; i < covered.size(); ++i) at[i + 1] = at[i] + covered[i];
+    // 3. Rasterise into the visibility buffer, tile by tile; threads take the next tile (each tile's pixels
+    //    belong to it alone: no locks, and the order of tiles changes nothing).
+    const Tiling g(W, H);
+    std::vector<Bins> bins(chunks.size());
+    run_parallel(threads, [&](int i) { bins[std::size_t(i)] = bin_chunk(chunks[std::size_t(i)], g); });
+    const std::size_t npix = std::size_t(W) * std::size_t(H);
+    Scratch& scratch = scratch_for(npix, std::size_t(g.tiles_x) * std::size_t(H));
+    double* const depth = scratch.depth.get();          // NDC z of the nearest surface so far
+    std::int32_t* const owner = scratch.owner.get();
+    RowSpan* const spans = scratch.spans.get();
+    const TileContext tc{&g, &chunks, &bins, &first_id, depth, owner, spans};
+    std::atomic<int> next_tile{0};
+    run_parallel(threads, [&](int) {
+        for (int k = next_tile++; k < g.count(); k = next_tile++) raster_tile(tc, k);
+    });
+    const auto t_raster = clock_type::now();
+
+    // 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer, at the
+    //    offset the covered counts before it give.
+    std::vector<std::size_t> at(std::size_t(g.tiles_y) + 1, 0);
+    for (int y = 0; y < H; ++y) {
+        std::size_t row = 0;
+        for (int tx = 0; tx < g.tiles_x; ++tx) row += std::size_t(spans[std::size_t(tx) * std::size_t(H) + std::size_t(y)].covered);
+        at[std::size_t(y / kTileH) + 1] += row;
+    }
+    for (int ty = 0; ty < g.tiles_y; ++ty) at[std::size_t(ty) + 1] += at[std::size_t(ty)];
     FragmentBuffer fb;
     fb.width = W;
     fb.height = H;
-    fb.resize(at.back());
-    fb.triangle.resize(at.back());
-    fb.b1.resize(at.back());
-    fb.b2.resize(at.back());
-    const EmitContext ctx{&mesh, sv.get(), &chunks, &first_id, owner.get(), extent.data(), camera.eye,
+    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
+        resize_fresh(*v, at.back());
+    resize_fresh(fb.pixel, at.back());
+    resize_fresh(fb.triangle, at.back());
+    const EmitContext ctx{&mesh, sv.get(), &chunks, &first_id, owner, spans, g.tiles_x, camera.eye,
                           glm::normalize(camera.target - camera.eye), options.flip_normals_to_viewer, W, H};
-    run_parallel(threads, [&](int i) { emit_band(ctx, band(i), band(i + 1), at[std::size_t(i)], fb); });
+    std::atomic<int> next_band{0};
+    run_parallel(threads, [&](int) {
+        std::vector<Resolve> cache(1024);
+        for (Resolve& r : cache) r.id = -1;
+        for (int ty = next_band++; ty < g.tiles_y; ty = next_band++)
+            emit_rows(ctx, cache, ty * kTileH, std::min(H, (ty + 1) * kTileH), at[std::size_t(ty)], fb);
+    });
+    const auto t_emit = clock_type::now();
 
     if (stats) {
         RasterStats st;
@@ -821,6 +966,9 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
             st.triangles_clipped += c.stats.triangles_clipped;
         }
         st.fragments = fb.size();
+        st.setup_ms = ms_between(t0, t_setup);
+        st.raster_ms = ms_between(t_setup, t_raster);
+        st.emit_ms = ms_between(t_raster, t_emit);
         *stats = st;
     }
     return fb;

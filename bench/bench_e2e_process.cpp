@@ -1,0 +1,272 @@
+// The whole process around the frame (issue 13 item 6): what is not shading.
+//   writes:   shadelab's write_image against `oiiotool` writing the same pixels with the same settings (PNG zlib
+//             level, EXR compression), for each setting: time (best of N), the ratio, the file size;
+//   builds:   the whole catalogue's programs (every model, precise and fast, one light) built and run once on a
+//             tiny fragment buffer, each case in a fresh process: PoCL's kernel cache cold or warm, shadelab's
+//             program-binary cache off, cold or warm;
+//   meshes:   OpenMesh's readers (load_mesh) on the bundled meshes, best of N, against a frame of the same mesh.
+// A benchmark, not a test: --smoke runs a tiny size so the suite checks it still works.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include "bench_util.hpp"
+#include "cl/runtime.hpp"
+#include "core/error.hpp"
+#include "image/image.hpp"
+#include "mesh/mesh.hpp"
+#include "models/catalogue.hpp"
+#include "raster/camera.hpp"
+#include "raster/raster.hpp"
+#include "shade/shader.hpp"
+
+using namespace shadelab;
+namespace fs = std::filesystem;
+using clock_type = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(clock_type::time_point t0) {
+    return std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
+}
+
+std::string run_capture(const std::string& cmd) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) throw Error("cannot run '" + cmd + "'");
+    char buf[4096];
+    while (std::fgets(buf, sizeof buf, p)) out += buf;
+    const int rc = pclose(p);
+    if (rc != 0) throw Error("'" + cmd + "' failed (exit " + std::to_string(rc) + "): " + out.substr(0, 300));
+    return out;
+}
+
+// The "-o" line of `oiiotool --runstats`: seconds spent in the output operation (encoding and writing).
+double oiiotool_write_ms(const std::string& args) {
+    const std::string out = run_capture("oiiotool --runstats " + args + " 2>&1");
+    const auto at = out.find("\n      -o");
+    if (at == std::string::npos) throw Error("oiiotool --runstats printed no '-o' time: " + out.substr(0, 300));
+    const auto colon = out.find(':', at);
+    return 1000.0 * std::stod(out.substr(colon + 1));
+}
+
+// A frame of `mesh` at w x h shaded with Lambert: the pixels the writes are timed on (a real render: a mesh
+// on a transparent background, as `shadelab render` writes it).
+Image render(Runtime& rt, const Mesh& mesh, int w, int h) {
+    RasterOptions ro;
+    ro.width = w;
+    ro.height = h;
+    const Camera cam = Camera::fit(mesh.bounds(), {0.0, 0.25, 1.0}, 35.0, double(w) / double(h));
+    const FragmentBuffer fb = rasterize(mesh, cam, ro);
+    ShadeSetup s;
+    s.material.model = "lambert";
+    s.material = resolve_material(s.material);
+    s.lights.push_back(Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 1.0, 1.0}, 1.0, 0.0});
+    s.view = glm::dvec4(cam.eye, 1.0);
+    Shader shader(rt);
+    return compose_image(fb, shader.shade(fb, s), glm::dvec4(0.0));
+}
+
+// Raw pixels to a file oiiotool reads back untouched: uncompressed TIFF (8-bit) or EXR (float).
+void write_raw(const std::string& path, const Image& img, bool eight_bit) {
+    auto out = OIIO::ImageOutput::create(path);
+    OIIO::ImageSpec spec(img.width, img.height, img.channels, eight_bit ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = 3;
+    spec.attribute("compression", "none");
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+    bool ok = out && out->open(path, spec);
+    if (ok && eight_bit) ok = out->write_image(OIIO::TypeDesc::UINT8, encode_srgb8(img).data());
+    else if (ok) ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+    if (!ok || !out->close()) throw Error("cannot write '" + path + "'");
+}
+
+void bench_writes(Runtime& rt, const Mesh& mesh, int w, int h, int reps, const fs::path& tmp) {
+    const Image img = render(rt, mesh, w, h);
+    const std::string raw8 = (tmp / "raw8.tif").string(), rawf = (tmp / "rawf.exr").string();
+    write_raw(raw8, img, true);
+    write_raw(rawf, img, false);
+    std::printf("\n== image writes, %dx%d RGBA (%s): shadelab write_image against oiiotool's '-o' on the same pixels\n"
+                "   (oiiotool reads an uncompressed file first; only its -o step is timed, from --runstats)\n",
+                w, h, mesh.source.substr(mesh.source.find_last_of('/') + 1).c_str());
+    std::printf("%-26s %12s %12s %8s %12s %s\n", "setting", "shadelab", "oiiotool", "ratio", "size", "");
+    struct Case {
+        std::string label, ext;
+        ImageWriteOptions opt;
+        std::string oiio_args;
+    };
+    std::vector<Case> cases;
+    for (int level : {6, 1, 3, 9}) {
+        ImageWriteOptions o;
+        o.png_level = level;
+        cases.push_back({"png zlib " + std::to_string(level) + (level == ImageWriteOptions().png_level ? " (default)" : ""),
+                         ".png", o, raw8 + " --attrib png:compressionLevel " + std::to_string(level)});
+    }
+    for (const char* c : {"zip", "piz", "zips", "rle", "none", "dwaa"}) {
+        ImageWriteOptions o;
+        o.exr_compression = c;
+        cases.push_back({std::string("exr ") + c + (c == ImageWriteOptions().exr_compression ? " (default)" : ""), ".exr",
+                         o, rawf + " --compression " + c});
+    }
+    for (const Case& c : cases) {
+        const std::string ours = (tmp / ("ours" + c.ext)).string(), theirs = (tmp / ("theirs" + c.ext)).string();
+        double best_ours = 1e30, best_theirs = 1e30;
+        for (int r = 0; r < reps; ++r) {
+            const auto t0 = clock_type::now();
+            write_image(ours, img, c.opt);
+            best_ours = std::min(best_ours, ms_since(t0));
+            best_theirs = std::min(best_theirs, oiiotool_write_ms(c.oiio_args + " -o " + theirs));
+        }
+        std::printf("%-26s %10.1fms %10.1fms %7.2fx %10.1fMB %s\n", c.label.c_str(), best_ours, best_theirs,
+                    best_theirs / best_ours, double(fs::file_size(ours)) / 1e6,
+                    best_ours <= best_theirs ? "" : "(shadelab slower)");
+    }
+}
+
+// --- program builds: each case in a fresh process (PoCL reads its cache settings at start-up) ---------------
+
+// Builds and runs every catalogue model (precise and fast) once; prints "builds <ms> total <ms> programs <n>
+// cached <n>".
+int child_builds(int max_models) {
+    Runtime rt;
+    Shader shader(rt);
+    FragmentBuffer fb;
+    fb.width = 4;
+    fb.height = 1;
+    for (int i = 0; i < 4; ++i) fb.push_back(0, 0, 0, 0, 0, 1, i, 1.0f);
+    const auto t0 = clock_type::now();
+    int n = 0;
+    for (const ModelInfo& info : model_catalogue()) {
+        if (max_models > 0 && n >= max_models) break;
+        Material m;
+        m.model = info.name;
+        add_demo_children(m, info);
+        m = resolve_material(m);
+        for (Precision p : {Precision::Precise, Precision::Fast}) {
+            ShadeSetup s;
+            s.material = m;
+            s.lights.push_back(Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 1.0, 1.0}, 1.0, 0.0});
+            s.precision = p;
+            shader.shade(fb, s);
+        }
+        ++n;
+    }
+    std::printf("builds %.1f total %.1f programs %zu cached %zu rejected %zu\n", 1000.0 * rt.build_seconds(),
+                ms_since(t0), rt.programs_built(), rt.programs_from_cache(), rt.cache_entries_rejected());
+    return 0;
+}
+
+struct BuildRun {
+    double build_ms = 0, total_ms = 0;
+    std::size_t programs = 0, cached = 0;
+};
+
+BuildRun run_child(const std::string& self, const std::string& pocl_cache, const std::string& program_cache, int max_models) {
+    const std::string cmd = "POCL_CACHE_DIR='" + pocl_cache + "' SHADELAB_PROGRAM_CACHE='" + program_cache + "' '" +
+                            self + "' --child-builds --build-models " + std::to_string(max_models);
+    const std::string out = run_capture(cmd);
+    BuildRun r;
+    std::size_t rejected = 0;
+    if (std::sscanf(out.c_str(), "builds %lf total %lf programs %zu cached %zu rejected %zu", &r.build_ms, &r.total_ms,
+                    &r.programs, &r.cached, &rejected) != 5)
+        throw Error("unexpected output of the build child: " + out.substr(0, 200));
+    return r;
+}
+
+void bench_builds(const std::string& self, const fs::path& tmp, int max_models) {
+    std::printf("\n== program builds: %s catalogue model%s, precise and fast, built and run once (fresh process each)\n",
+                max_models > 0 ? ("the first " + std::to_string(max_models)).c_str() : "every",
+                max_models == 1 ? "" : "s");
+    std::printf("%-52s %10s %10s %9s %7s\n", "case", "build", "process", "programs", "cached");
+    const std::string pocl_a = (tmp / "pocl-a").string(), pocl_b = (tmp / "pocl-b").string();
+    const std::string cache = (tmp / "programs").string();
+    struct Step {
+        const char* label;
+        std::string pocl, programs;
+    };
+    const std::vector<Step> steps = {
+        {"cold: PoCL cache empty, shadelab cache off", pocl_a, "off"},
+        {"PoCL cache warm, shadelab cache off", pocl_a, "off"},
+        {"cold: PoCL cache empty, shadelab cache empty", pocl_b, cache},
+        {"warm: shadelab cache warm (PoCL cache warm)", pocl_b, cache},
+        {"shadelab cache warm, PoCL cache empty", (tmp / "pocl-c").string(), cache},
+    };
+    double cold = 0;
+    for (const Step& s : steps) {
+        const BuildRun r = run_child(self, s.pocl, s.programs, max_models);
+        if (cold == 0) cold = r.total_ms;
+        std::printf("%-52s %8.0fms %8.0fms %9zu %7zu   %.2fx the cold run\n", s.label, r.build_ms, r.total_ms, r.programs,
+                    r.cached, cold / r.total_ms);
+    }
+}
+
+void bench_meshes(const std::vector<std::string>& meshes, int reps) {
+    std::printf("\n== mesh loading (OpenMesh readers + shadelab's validation), best of %d\n", reps);
+    for (const std::string& path : meshes) {
+        double best = 1e30;
+        std::size_t tris = 0;
+        for (int r = 0; r < reps; ++r) {
+            const auto t0 = clock_type::now();
+            const Mesh m = load_mesh(path);
+            best = std::min(best, ms_since(t0));
+            tris = m.triangles.size();
+        }
+        std::printf("%-28s %8zu triangles %9.1f ms\n", path.substr(path.find_last_of('/') + 1).c_str(), tris, best);
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool smoke = false, child = false;
+    int reps = 3, build_models = 0;
+    std::string size = "4096x4096";
+    const std::string mesh_dir = std::string(SHADELAB_SOURCE_DIR) + "/meshes";
+    std::vector<std::string> meshes = {mesh_dir + "/suzanne.obj", mesh_dir + "/spot.obj", mesh_dir + "/teapot.obj",
+                                       mesh_dir + "/stanford-bunny.obj", mesh_dir + "/dragon_vrip_res2.ply"};
+    CLI::App app{"bench_e2e_process: image writes against oiiotool, program builds and caches, mesh loading"};
+    app.add_flag("--smoke", smoke, "Tiny run for the test suite: 64x64, two models, no timing claims");
+    app.add_option("--size", size, "Image size of the write benchmark, WIDTHxHEIGHT")->capture_default_str();
+    app.add_option("--reps", reps, "Repetitions (best is reported)")->capture_default_str()->check(CLI::Range(1, 100));
+    app.add_option("--build-models", build_models, "Build only the first N catalogue models (0 = all)")
+        ->capture_default_str()->check(CLI::Range(0, 1000));
+    app.add_flag("--child-builds", child, "(internal) build the catalogue once and print the times");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        if (e.get_exit_code() == 0) return app.exit(e);
+        std::cerr << "bench_e2e_process: error: " << e.what() << " (see bench_e2e_process --help)\n";
+        return 2;
+    }
+    try {
+        if (child) return child_builds(build_models);
+        int w = 0, h = 0;
+        char x = 0;
+        if (smoke) size = "64x64", reps = 1, build_models = 2;
+        if (std::sscanf(size.c_str(), "%d%c%d", &w, &x, &h) != 3 || x != 'x' || w < 1 || h < 1 || w > 16384 || h > 16384)
+            throw Error("--size expects WIDTHxHEIGHT with each side in [1, 16384]; got '" + size + "'");
+        const fs::path tmp = fs::temp_directory_path() / ("shadelab-bench-process-" + std::to_string(::getpid()));
+        fs::create_directories(tmp);
+        std::printf("machine: %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
+        Runtime rt;
+        std::printf("OpenCL: %s\n", rt.device_description().c_str());
+        bench_writes(rt, load_mesh(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
+        bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
+        bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps);
+        fs::remove_all(tmp);
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "bench_e2e_process: error: " << e.what() << "\n";
+        return 1;
+    }
+}
