@@ -29,6 +29,7 @@
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_check.hpp"
+#include "photometry/pvl.hpp"
 #include "scene/batch.hpp"
 #include "scene/scene.hpp"
 #include "support.hpp"
@@ -357,6 +358,19 @@ TEST_CASE("EXR channels of mixed stored types (half and float) read exactly, cha
             CHECK(img.at(x, y, 2) == 0.75f);
             CHECK(img.at(x, y, 3) == 1.0f);
         }
+}
+
+// fuzz_pvl: 100000 nested 'Group=a' lines recursed once per level until the stack overflowed (SIGSEGV).
+TEST_CASE("a PVL file nesting blocks deeper than 32 levels is refused with the line, not a stack overflow",
+          "[hostile][pvl]") {
+    CHECK_THROWS_WITH(pvl::parse_file(kHostile + "/pvl_nested_100000_groups.pvl"),
+                      Catch::Contains("pvl_nested_100000_groups.pvl:33: Group 'a' is nested 33 levels deep, more than the 32"));
+    // 32 levels still read (ISIS files use two or three).
+    std::string ok;
+    for (int i = 0; i < 32; ++i) ok += "Group = g" + std::to_string(i) + "\n";
+    for (int i = 31; i >= 0; --i) ok += "End_Group = g" + std::to_string(i) + "\n";
+    const pvl::Block root = pvl::parse(ok + "End\n", "ok.pvl");
+    CHECK(root.find("Group", "g31") != nullptr);
 }
 
 TEST_CASE("memory limit: sizes and the SHADELAB_MAX_MEMORY / --max-memory override", "[hostile][limits]") {
