@@ -17,15 +17,10 @@ bool angle_ok(double a) { return std::isfinite(a) && a >= 0.0 && a <= 180.0; }
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = shadelab::fuzz::scratch_path("geometry.csv");
-    shadelab::fuzz::write_file(path, data, size);
     using namespace shadelab::photometry;
-    GeometryTable t;
-    try {
-        t = read_geometry_csv(path);
-    } catch (const shadelab::Error&) {
-        return 0;
-    }
+    const auto table = shadelab::fuzz::load_input(data, size, "geometry.csv", read_geometry_csv);
+    if (!table) return 0;
+    const GeometryTable& t = *table;
     if (t.rows.size() != t.geometry.size() || t.value_column > t.header.size()) __builtin_trap();
     for (const Geometry& g : t.geometry)
         if (!angle_ok(g.phase) || !angle_ok(g.incidence) || !angle_ok(g.emission)) __builtin_trap();

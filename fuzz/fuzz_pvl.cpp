@@ -6,23 +6,16 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/error.hpp"
 #include "fuzz_common.hpp"
 #include "photometry/isis.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string path = shadelab::fuzz::scratch_path("params.pvl");
-    shadelab::fuzz::write_file(path, data, size);
     using namespace shadelab::photometry;
-    Law law;
-    try {
-        law = law_from_pvl_file(path);
-    } catch (const shadelab::Error&) {
-        return 0;
-    }
+    const auto law = shadelab::fuzz::load_input(data, size, "params.pvl", law_from_pvl_file);
+    if (!law) return 0;
     for (double g : {0.0, 30.0, 90.0, 150.0, 180.0})
         for (double i : {0.0, 45.0, 89.0, 90.0})
             for (double e : {0.0, 60.0, 90.0})
-                if (!std::isfinite(evaluate_reference(law, Geometry{g, i, e}))) __builtin_trap();
+                if (!std::isfinite(evaluate_reference(*law, Geometry{g, i, e}))) __builtin_trap();
     return 0;
 }
