@@ -1,9 +1,11 @@
 #include "core/atomic_file.hpp"
 
 #include <signal.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -39,6 +41,23 @@ long temporary_pid(const std::string& file) {
     return 0;
 }
 
+// Why a write into `folder` failed, asked of the file system after the fact (the libraries that write
+// images and tables report a failed write, rarely its errno): a read-only mount, a folder we may not
+// write to, or no space left (under 64 kB free while the partial file is still there); empty when none
+// of these is the case.
+std::string write_failure_cause(const fs::path& folder) {
+    const std::string dir = folder.empty() ? std::string(".") : folder.string();
+    struct statvfs fsinfo {};
+    if (::statvfs(dir.c_str(), &fsinfo) == 0 && (fsinfo.f_flag & ST_RDONLY))
+        return "the folder '" + dir + "' is on a read-only file system: write somewhere else";
+    if (::access(dir.c_str(), W_OK) != 0)
+        return "the folder '" + dir + "' is not writable (" + std::string(std::strerror(errno)) + "): write somewhere else";
+    if (::statvfs(dir.c_str(), &fsinfo) == 0 && double(fsinfo.f_bavail) * double(fsinfo.f_frsize) < 65536.0)
+        return "the disk is full (" + std::to_string((unsigned long long)(fsinfo.f_bavail) * fsinfo.f_frsize) +
+               " bytes free in '" + dir + "'): free some space or write somewhere else";
+    return {};
+}
+
 }  // namespace
 
 std::size_t remove_stale_temporaries(const std::string& folder) {
@@ -70,9 +89,12 @@ void write_file_atomically(const std::string& path, const std::string& what, con
         throw;
     }
     if (!ok) {
+        const std::string cause = write_failure_cause(target.parent_path());   // before the partial file goes
         fs::remove(tmp, ec);
-        throw Error("writing '" + path + "' failed" + (why.empty() ? "" : ": " + why) +
-                    " (is the disk full or the folder read-only?)");
+        throw Error("writing '" + path + "' failed: " +
+                    (cause.empty() ? (why.empty() ? std::string("the library gave no reason") : why) +
+                                         " (is the disk full or the folder read-only?)"
+                                   : cause));
     }
     fs::rename(tmp, target, ec);
     if (ec) {
