@@ -1,8 +1,9 @@
 #!/bin/sh
 # hostile_output.sh SHADELAB MESH PVL SCRATCH
 # Writing onto a full file system or into a read-only folder: every output (an sRGB PNG, a float EXR, a FITS
-# image, a batch's images and report, a photometry table) must end in exactly one line on stderr naming the
-# file and the cause, exit 1, and no file left behind (neither the target nor the hidden temporary).
+# image, a batch's images and report, a photometry table) must end in exactly one error line (the progress
+# lines a command prints on stderr aside) naming the folder and the cause, exit 1, and no file left behind
+# (neither the target nor the hidden temporary).
 #
 # The full and read-only folders are small tmpfs mounts made in a private mount namespace (unshare -m), so
 # nothing is visible outside this script and nothing is left mounted if it dies. Where the machine cannot
@@ -30,21 +31,23 @@ printf '{ "name": "s", "meshes": [ { "path": "%s" } ], "resolution": [32, 32], "
 printf 'phase,incidence,emission\n60,45,30\n30,20,10\n' > "$scratch/in/g.csv"
 
 fail=0
-# check NAME CAUSE DIR COMMAND...: exit 1, one line on stderr naming DIR and CAUSE, DIR holds only the filler.
+# check NAME CAUSE DIR COMMAND...: exit 1, one 'shadelab: error:' line naming DIR and CAUSE, DIR holds only
+# the filler.
 check() {
     name=$1; cause=$2; dir=$3; shift 3
     err=$("$@" 2>&1 > /dev/null)
     got=$?
-    lines=$(printf '%s\n' "$err" | grep -c .)
+    line=$(printf '%s\n' "$err" | grep '^shadelab: error:')
+    lines=$(printf '%s\n' "$err" | grep -c '^shadelab: error:')
     left=$(ls -A "$dir" | grep -vx filler | tr '\n' ' ')
     verdict=ok
     [ "$got" -eq 1 ] || verdict="exit $got, expected 1"
-    [ "$lines" -eq 1 ] || verdict="$verdict; $lines lines on stderr, expected 1"
-    printf '%s\n' "$err" | grep -Fq -- "$dir" || verdict="$verdict; the message does not name the folder"
-    printf '%s\n' "$err" | grep -Fq -- "$cause" || verdict="$verdict; the message does not say '$cause'"
+    [ "$lines" -eq 1 ] || verdict="$verdict; $lines error lines, expected 1"
+    printf '%s\n' "$line" | grep -Fq -- "$dir" || verdict="$verdict; the message does not name the folder"
+    printf '%s\n' "$line" | grep -Fq -- "$cause" || verdict="$verdict; the message does not say '$cause'"
     [ -z "$left" ] || verdict="$verdict; left behind: $left"
     echo "$name: $verdict"
-    printf '    %s\n' "$err" | head -3
+    printf '    %s\n' "$line"
     [ "$verdict" = ok ] || fail=1
 }
 full=$scratch/full; ro=$scratch/ro
