@@ -45,8 +45,9 @@ class Lexer {
 public:
     Lexer(const std::string& text, const std::string& file) : s_(text), file_(file) {}
 
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(file_ + ":" + std::to_string(line_) + ": " + what);
+    [[noreturn]] void fail(const std::string& what) const { fail_at(line_, what); }
+    [[noreturn]] void fail_at(int line, const std::string& what) const {
+        throw Error(file_ + ":" + std::to_string(line) + ": " + what);
     }
     int line() const { return line_; }
     bool at_end() {
@@ -174,7 +175,7 @@ constexpr std::uintmax_t kMaxFileBytes = 16u << 20;
 // Parses statements into `b` until the block's end statement (or the file's end for the root).
 void parse_block(Lexer& lx, Block& b, bool root, int depth) {
     if (depth > kMaxDepth)
-        lx.fail(b.kind + " '" + b.name + "' is nested " + std::to_string(depth) + " levels deep, more than the " +
+        lx.fail_at(b.line, b.kind + " '" + b.name + "' is nested " + std::to_string(depth) + " levels deep, more than the " +
                 std::to_string(kMaxDepth) + " a parameter file may use: check the End_Object/End_Group lines");
     while (true) {
         if (lx.at_end()) {
