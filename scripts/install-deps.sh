@@ -10,6 +10,8 @@ PACKAGES=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   # mesh IO, image IO, host maths
   libopenmesh-dev libopenimageio-dev openimageio-tools libglm-dev
+  # EXR headers checked before OpenImageIO opens them (OpenEXR core C library)
+  libopenexr-dev
   # planetary data: FITS (cfitsio) and ISIS3 cubes, PDS3/PDS4, GeoTIFF (GDAL)
   libcfitsio-dev libgdal-dev
   # command line, JSON, tests

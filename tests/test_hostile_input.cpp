@@ -29,6 +29,7 @@
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_check.hpp"
+#include "photometry/pvl.hpp"
 #include "scene/batch.hpp"
 #include "scene/scene.hpp"
 #include "support.hpp"
@@ -320,11 +321,56 @@ TEST_CASE("image headers asking for gigabytes are refused up front with the figu
                       Catch::Contains("40000x40000") && Catch::Contains("6.4 GB") && Catch::Contains("truncated"));
     CHECK_THROWS_WITH(read_image(kHostile + "/png_ihdr_says_20000x20000.png"),
                       Catch::Contains("20000x20000") && Catch::Contains("1.2 GB") && Catch::Contains("cannot hold"));
-    // EXR: OpenEXR's offset table stops a header that claims too much; a file cut in its pixel data is
-    // caught by reading its last row before the image is allocated.
-    CHECK_THROWS_WITH(read_image(kHostile + "/exr_header_says_20000x20000.exr"), Catch::Contains("cannot read image"));
+    // EXR: a header whose chunks the file could not even index is refused before OpenImageIO opens it; a
+    // file cut in its pixel data is caught by reading its last row before the image is allocated.
+    CHECK_THROWS_WITH(read_image(kHostile + "/exr_header_says_20000x20000.exr"),
+                      Catch::Contains("its header says 20000x20000 in 1250 chunks") && Catch::Contains("457 bytes"));
     CHECK_THROWS_WITH(read_image(kHostile + "/exr_truncated_256x256.exr"),
                       Catch::Contains("truncated or corrupt: its header says 256x256 but its last row cannot be read"));
+}
+
+// The fuzz finding of fuzz_image: an 877-byte EXR whose data window is 2097160x6 (its display window 8x6).
+// OpenEXR's C++ reader allocates its decode buffers at open from that width (four ZIP line buffers of
+// 16 rows x 12.6 MB here, each with two decompressor buffers: 1.6 GB), and OpenImageIO 2.4's converting
+// read_scanlines then asked for 256 rows x 12.6 MB = 3.2 GB whatever the image's 6 rows. The header is now
+// read first (OpenEXR's core library) and its cost checked; the read is native, converted by us.
+TEST_CASE("an EXR whose data window is 2097160 pixels wide is refused before its decode buffers are allocated",
+          "[hostile][image]") {
+    const std::string wide = kHostile + "/exr_wide_data_window_3GB.exr";
+    set_memory_limit(1000000000);
+    CHECK_THROWS_WITH(read_image(wide), Catch::Contains("(2097160x6, decoded in chunks of 201.3 MB) would need") &&
+                                            Catch::Contains("more than the limit of 1.0 GB"));
+    set_memory_limit(0);
+}
+
+TEST_CASE("EXR channels of mixed stored types (half and float) read exactly, channel by channel", "[image]") {
+    // Written by OpenImageIO with channelformats half, float, half, float: R = 0.25 + x/8, G = y/4 + 1e-4
+    // (1e-4 is not a half: a float channel read as half would lose it), B = 0.75, A = 1.
+    const Image img = read_image(test::kData + "/exr_mixed_half_float_channels.exr");
+    REQUIRE(img.width == 5);
+    REQUIRE(img.height == 4);
+    REQUIRE(img.channels == 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 5; ++x) {
+            INFO("pixel (" << x << ", " << y << ")");
+            CHECK(img.at(x, y, 0) == 0.25f + float(x) / 8.0f);
+            CHECK(img.at(x, y, 1) == float(y) / 4.0f + 1e-4f);
+            CHECK(img.at(x, y, 2) == 0.75f);
+            CHECK(img.at(x, y, 3) == 1.0f);
+        }
+}
+
+// fuzz_pvl: 100000 nested 'Group=a' lines recursed once per level until the stack overflowed (SIGSEGV).
+TEST_CASE("a PVL file nesting blocks deeper than 32 levels is refused with the line, not a stack overflow",
+          "[hostile][pvl]") {
+    CHECK_THROWS_WITH(pvl::parse_file(kHostile + "/pvl_nested_100000_groups.pvl"),
+                      Catch::Contains("pvl_nested_100000_groups.pvl:33: Group 'a' is nested 33 levels deep, more than the 32"));
+    // 32 levels still read (ISIS files use two or three).
+    std::string ok;
+    for (int i = 0; i < 32; ++i) ok += "Group = g" + std::to_string(i) + "\n";
+    for (int i = 31; i >= 0; --i) ok += "End_Group = g" + std::to_string(i) + "\n";
+    const pvl::Block root = pvl::parse(ok + "End\n", "ok.pvl");
+    CHECK(root.find("Group", "g31") != nullptr);
 }
 
 TEST_CASE("memory limit: sizes and the SHADELAB_MAX_MEMORY / --max-memory override", "[hostile][limits]") {

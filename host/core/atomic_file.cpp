@@ -1,9 +1,11 @@
 #include "core/atomic_file.hpp"
 
 #include <signal.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -39,6 +41,30 @@ long temporary_pid(const std::string& file) {
     return 0;
 }
 
+// "the disk is full (...)" when fewer than 64 kB are left in `dir` for this process (root may also use the
+// blocks a file system reserves for it), else empty.
+std::string disk_full(const std::string& dir) {
+    struct statvfs fsinfo {};
+    if (::statvfs(dir.c_str(), &fsinfo) != 0) return {};
+    const double free_bytes = double(::geteuid() == 0 ? fsinfo.f_bfree : fsinfo.f_bavail) * double(fsinfo.f_frsize);
+    if (free_bytes >= 65536.0) return {};
+    return "the disk is full (" + std::to_string((unsigned long long)free_bytes) + " bytes free in '" + dir +
+           "'): free some space or write somewhere else";
+}
+
+// Why a write into `folder` failed, asked of the file system after the fact (the libraries that write
+// images and tables report a failed write, rarely its errno): a read-only mount, a folder we may not
+// write to, or no space left (while the partial file is still there); empty when none of these is the case.
+std::string write_failure_cause(const fs::path& folder) {
+    const std::string dir = folder.empty() ? std::string(".") : folder.string();
+    struct statvfs fsinfo {};
+    if (::statvfs(dir.c_str(), &fsinfo) == 0 && (fsinfo.f_flag & ST_RDONLY))
+        return "the folder '" + dir + "' is on a read-only file system: write somewhere else";
+    if (::access(dir.c_str(), W_OK) != 0)
+        return "the folder '" + dir + "' is not writable (" + std::string(std::strerror(errno)) + "): write somewhere else";
+    return disk_full(dir);
+}
+
 }  // namespace
 
 std::size_t remove_stale_temporaries(const std::string& folder) {
@@ -69,10 +95,18 @@ void write_file_atomically(const std::string& path, const std::string& what, con
         fs::remove(tmp, ec);
         throw;
     }
+    // OpenImageIO 2.4's PNG and EXR writers report success when the disk filled up under them (their
+    // buffered writes' errors are dropped), leaving a truncated file: a write that leaves the file system
+    // without room is taken as failed rather than put in place unverified.
+    if (ok && !disk_full(target.parent_path().empty() ? std::string(".") : target.parent_path().string()).empty())
+        ok = false;
     if (!ok) {
+        const std::string cause = write_failure_cause(target.parent_path());   // before the partial file goes
         fs::remove(tmp, ec);
-        throw Error("writing '" + path + "' failed" + (why.empty() ? "" : ": " + why) +
-                    " (is the disk full or the folder read-only?)");
+        throw Error("writing '" + path + "' failed: " +
+                    (cause.empty() ? (why.empty() ? std::string("the library gave no reason") : why) +
+                                         " (is the disk full or the folder read-only?)"
+                                   : cause));
     }
     fs::rename(tmp, target, ec);
     if (ec) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <memory>
 
@@ -14,6 +15,7 @@
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/limits.hpp"
+#include "image/exr_header.hpp"
 #include "image/fits.hpp"
 #include "image/raster.hpp"
 #include "raster/big_buffer.hpp"
@@ -245,11 +247,46 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
         fs::path(path).extension().string());
 }
 
+namespace {
+
+// OpenEXR's magic number (the first four bytes of every EXR file, whatever its name).
+bool is_exr_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[4] = {};
+    return in.read(magic, 4) && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
+}
+
+// The image in its stored formats, converted here channel by channel to float. Never ask OpenImageIO
+// 2.4 for the conversion: its read_scanlines then allocates a native buffer of max(256, 64 MB / row)
+// rows whatever the image's height (ImageInput::read_scanlines, "oiio_read_chunk"), so a 6-row EXR
+// 2097160 pixels wide cost 3.2 GB there. A native read goes straight into our buffer.
+bool read_as_float(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, std::vector<float>& out) {
+    const std::size_t w = std::size_t(spec.width), h = std::size_t(spec.height), n = std::size_t(spec.nchannels);
+    const std::size_t pixel_bytes = spec.pixel_bytes(true);
+    std::vector<unsigned char> raw(w * h * pixel_bytes);
+    if (!in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, raw.data())) return false;
+    std::size_t offset = 0;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const OIIO::TypeDesc t = spec.channelformat(c);
+        if (!OIIO::convert_image(1, spec.width, spec.height, 1, raw.data() + offset, t, OIIO::stride_t(pixel_bytes),
+                                 OIIO::stride_t(w * pixel_bytes), OIIO::AutoStride, out.data() + c, OIIO::TypeFloat,
+                                 OIIO::stride_t(n * sizeof(float)), OIIO::stride_t(w * n * sizeof(float)),
+                                 OIIO::AutoStride))
+            return false;
+        offset += t.size();
+    }
+    return true;
+}
+
+}  // namespace
+
 Image read_image(const std::string& path) {
     if (is_fits_path(path)) return read_fits(path);
     if (is_gdal_path(path)) return read_raster_band(path);   // ISIS3 cubes, PDS3/PDS4, GeoTIFF[band]
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
+    // An EXR header sizes OpenEXR's decode buffers, which are allocated when the file is opened: check it first.
+    if (is_exr_file(path)) check_exr_header(path);
     // Keep straight alpha as stored (PNG): do not premultiply on read.
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
@@ -258,26 +295,31 @@ Image read_image(const std::string& path) {
     const OIIO::ImageSpec& spec = in->spec();
     // The header's size is checked before the pixels are allocated: a header of a few bytes may ask for
     // gigabytes. Deflate (PNG) packs at most 1032:1, so a PNG smaller than its raw pixels / 1032 cannot
-    // hold them; for every format the float image must fit in the memory limit.
+    // hold them; for every format the float image and its native copy must fit in the memory limit.
     const std::string dims = std::to_string(spec.width) + "x" + std::to_string(spec.height);
     if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.nchannels > 64)
         throw Error("image '" + path + "': its header says " + dims + " with " + std::to_string(spec.nchannels) +
                     " channels: not an image that can be read");
-    const double raw = double(spec.width) * double(spec.height) * double(spec.nchannels) * double(spec.format.size());
+    if (spec.depth != 1 || spec.deep)
+        throw Error("image '" + path + "' is a " + (spec.deep ? std::string("deep") : "volume (depth " + std::to_string(spec.depth) + ")") +
+                    " image, which shadelab does not read: flatten it to a 2D image first");
+    const double raw = double(spec.width) * double(spec.height) * double(spec.pixel_bytes(true));
     std::error_code size_ec;
     const auto file_bytes = fs::file_size(path, size_ec);
     if (!size_ec && std::string(in->format_name()) == "png" && double(file_bytes) * 1032.0 < raw)
         throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims + " (" + format_bytes(raw) +
                     " of pixels), which a " + format_bytes(double(file_bytes)) + " PNG cannot hold");
+    const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+    const double tile = tiled ? double(spec.tile_width) * double(spec.tile_height) * double(std::max(spec.tile_depth, 1)) *
+                                    double(spec.nchannels) * 4.0
+                              : 0.0;
     check_memory("image '" + path + "' (" + dims + ")",
-                 double(spec.width) * double(spec.height) * double(spec.nchannels) * 4.0);
+                 double(spec.width) * double(spec.height) * double(spec.nchannels) * 4.0 + raw + tile);
     // A format with random access (EXR, TIFF) shows whether the file holds its last row (or tile) before
     // the whole image is allocated: a truncated file is refused for the cost of one row.
     if (std::string(in->format_name()) == "openexr" || std::string(in->format_name()) == "tiff") {
-        const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
         const int last_y = spec.y + spec.height - 1;
-        std::vector<float> probe(std::size_t(tiled ? spec.tile_width * std::max(spec.tile_height, 1) * std::max(spec.tile_depth, 1)
-                                                   : spec.width) * std::size_t(spec.nchannels));
+        std::vector<float> probe(tiled ? std::size_t(tile / 4.0) : std::size_t(spec.width) * std::size_t(spec.nchannels));
         const bool ok = tiled ? in->read_tile(spec.x + (spec.width - 1) / spec.tile_width * spec.tile_width,
                                               spec.y + (spec.height - 1) / spec.tile_height * spec.tile_height, spec.z,
                                               OIIO::TypeDesc::FLOAT, probe.data())
@@ -287,7 +329,7 @@ Image read_image(const std::string& path) {
                         " but its last row cannot be read (" + in->geterror() + ")");
     }
     Image img(spec.width, spec.height, spec.nchannels);
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+    if (!read_as_float(*in, spec, img.pixels)) {
         const std::string why = in->geterror();
         throw Error("cannot decode image '" + path + "': " + why);
     }

@@ -1,6 +1,8 @@
 #include "photometry/pvl.hpp"
 
 #include <cctype>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -43,8 +45,9 @@ class Lexer {
 public:
     Lexer(const std::string& text, const std::string& file) : s_(text), file_(file) {}
 
-    [[noreturn]] void fail(const std::string& what) const {
-        throw Error(file_ + ":" + std::to_string(line_) + ": " + what);
+    [[noreturn]] void fail(const std::string& what) const { fail_at(line_, what); }
+    [[noreturn]] void fail_at(int line, const std::string& what) const {
+        throw Error(file_ + ":" + std::to_string(line) + ": " + what);
     }
     int line() const { return line_; }
     bool at_end() {
@@ -163,8 +166,17 @@ void parse_value(Lexer& lx, Keyword& k) {
     k.quoted = q;
 }
 
+// ISIS parameter files nest two or three levels (Object PhotometricModel > Group Algorithm); the limit keeps a
+// hostile file from recursing until the stack overflows (a fuzz finding: 200000 nested 'Object = a').
+constexpr int kMaxDepth = 32;
+// A parameter file is a few hundred bytes; the cap keeps a wrong path (an image, a cube) from being read whole.
+constexpr std::uintmax_t kMaxFileBytes = 16u << 20;
+
 // Parses statements into `b` until the block's end statement (or the file's end for the root).
-void parse_block(Lexer& lx, Block& b, bool root) {
+void parse_block(Lexer& lx, Block& b, bool root, int depth) {
+    if (depth > kMaxDepth)
+        lx.fail_at(b.line, b.kind + " '" + b.name + "' is nested " + std::to_string(depth) + " levels deep, more than the " +
+                std::to_string(kMaxDepth) + " a parameter file may use: check the End_Object/End_Group lines");
     while (true) {
         if (lx.at_end()) {
             if (root) return;
@@ -198,7 +210,7 @@ void parse_block(Lexer& lx, Block& b, bool root) {
             bool q = false;
             child.name = scalar(lx, q);
             child.line = line;
-            parse_block(lx, child, false);
+            parse_block(lx, child, false, depth + 1);
             b.blocks.push_back(std::move(child));
             continue;
         }
@@ -218,13 +230,18 @@ Block parse(const std::string& text0, const std::string& file) {
     Lexer lx(text, file);
     Block root;
     root.name = file;
-    parse_block(lx, root, true);
+    parse_block(lx, root, true, 0);
     return root;
 }
 
 Block parse_file(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open the PVL file");
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (!ec && bytes > kMaxFileBytes)
+        throw Error(path + ": " + std::to_string(bytes) + " bytes is too large for a PVL parameter file (at most " +
+                    std::to_string(kMaxFileBytes >> 20) + " MB): check the path");
     std::ostringstream ss;
     ss << in.rdbuf();
     return parse(ss.str(), path);
