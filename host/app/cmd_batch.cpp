@@ -38,6 +38,7 @@ struct BatchArgs {
 struct ContactArgs {
     ContactOptions opt;
     std::vector<std::string> models;
+    std::string precision = "precise";
 };
 
 void print_contact(const ContactResult& r) {
@@ -105,6 +106,68 @@ void run_batch_command(const BatchArgs& a) {
                     " jobs failed (each is a 'scene ...' line above; details in " + s.report_json + ")");
 }
 
+// shadelab report merge: the shards' reports -> the report an unsharded run writes.
+void add_report_command(CLI::App& app) {
+    struct MergeArgs {
+        std::vector<std::string> reports;
+        std::string out;
+        bool allow_missing = false;
+    };
+    auto ma = std::make_shared<MergeArgs>();
+    auto* rep = app.add_subcommand("report", "Work with batch reports");
+    rep->require_subcommand(1);
+    auto* merge = rep->add_subcommand("merge", "Merge the reports of a sharded batch (--shard i/N) into the report an "
+                                               "unsharded run writes (JSON, and the CSV beside it)");
+    merge->add_option("reports", ma->reports, "The shards' JSON reports")->required();
+    merge->add_option("-o,--output", ma->out, "The merged report (.json; a .csv is written beside it)")->required();
+    merge->add_flag("--allow-missing", ma->allow_missing, "Merge even when some shards' reports are not given");
+    merge->callback([ma] {
+        std::vector<BatchSummary> shards;
+        for (const auto& r : ma->reports) shards.push_back(read_report_json(r));
+        BatchSummary merged = merge_reports(shards, ma->reports, ma->allow_missing);
+        merged.report_json = ma->out;
+        merged.report_csv = std::filesystem::path(ma->out).replace_extension(".csv").string();
+        write_report_json(merged, merged.report_json);
+        write_report_csv(merged, merged.report_csv);
+        log_out() << "report merge: " << shards.size() << " shards, " << merged.jobs.size() << " of "
+                  << merged.planned_total << " jobs (" << merged.ok << " ok, " << merged.skipped << " up to date, "
+                  << merged.failed << " failed)\n";
+        std::cout << merged.report_json << "\n" << merged.report_csv << "\n";
+        if (merged.failed) throw Error("report merge: " + std::to_string(merged.failed) + " jobs failed (see the report)");
+    });
+}
+
+// shadelab contact: every model on a sphere and a mesh (host/scene/contact.hpp).
+void add_contact_command(CLI::App& app) {
+    auto c = std::make_shared<ContactArgs>();
+    auto* con = app.add_subcommand("contact",
+                                   "One image with every model of the catalogue (default parameters) on a sphere "
+                                   "and on a mesh, labelled");
+    con->add_option("-o,--output", c->opt.output, "Output image (.png sRGB or .exr linear)")->capture_default_str();
+    con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere (default: the bundled spot.obj)");
+    con->add_option("--turn", c->opt.mesh_turn_deg, "Turn the mesh this many degrees about +y")->capture_default_str();
+    con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();
+    con->add_option("--columns", c->opt.columns, "Model tiles per row (0: about 4:3)")->capture_default_str();
+    con->add_option("-m,--model", c->models, "Only these models (repeatable; default: the whole catalogue)");
+    con->add_option("--precision", c->precision, "Kernel precision of every tile: precise or fast (docs/precision.md)")
+        ->capture_default_str();
+    con->add_flag("--per-vertex", c->opt.per_vertex, "Shade every tile at the vertices and interpolate (Gouraud)");
+    con->footer("No --tolerance (the sheet shows each model as it is, not a cheaper stand-in) and no AOVs (every tile "
+                "has the same sphere and mesh: 'render --depth/--normal' writes them).");
+    con->callback([c] {
+        ContactOptions o = c->opt;
+        o.precision = parse_precision(c->precision);
+        for (const auto& m : c->models) require_model_name(m, "--model");
+        o.models = c->models;
+        Runtime rt;
+        const ContactResult r = make_contact_sheet(o, rt);
+        print_contact(r);
+        if (!r.failed.empty())
+            throw Error("contact sheet: " + std::to_string(r.failed.size()) + " models failed to shade (listed above); "
+                        "the sheet was written with their tiles empty");
+    });
+}
+
 }  // namespace
 
 void add_batch_command(CLI::App& app) {
@@ -140,55 +203,8 @@ void add_batch_command(CLI::App& app) {
     cmd->add_flag("--list", a->list, "Print this shard's jobs (index, scene, mesh) and exit without rendering");
     cmd->callback([a] { run_batch_command(*a); });
 
-    struct MergeArgs {
-        std::vector<std::string> reports;
-        std::string out;
-        bool allow_missing = false;
-    };
-    auto ma = std::make_shared<MergeArgs>();
-    auto* rep = app.add_subcommand("report", "Work with batch reports");
-    rep->require_subcommand(1);
-    auto* merge = rep->add_subcommand("merge", "Merge the reports of a sharded batch (--shard i/N) into the report an "
-                                               "unsharded run writes (JSON, and the CSV beside it)");
-    merge->add_option("reports", ma->reports, "The shards' JSON reports")->required();
-    merge->add_option("-o,--output", ma->out, "The merged report (.json; a .csv is written beside it)")->required();
-    merge->add_flag("--allow-missing", ma->allow_missing, "Merge even when some shards' reports are not given");
-    merge->callback([ma] {
-        std::vector<BatchSummary> shards;
-        for (const auto& r : ma->reports) shards.push_back(read_report_json(r));
-        BatchSummary merged = merge_reports(shards, ma->reports, ma->allow_missing);
-        merged.report_json = ma->out;
-        merged.report_csv = std::filesystem::path(ma->out).replace_extension(".csv").string();
-        write_report_json(merged, merged.report_json);
-        write_report_csv(merged, merged.report_csv);
-        log_out() << "report merge: " << shards.size() << " shards, " << merged.jobs.size() << " of "
-                  << merged.planned_total << " jobs (" << merged.ok << " ok, " << merged.skipped << " up to date, "
-                  << merged.failed << " failed)\n";
-        std::cout << merged.report_json << "\n" << merged.report_csv << "\n";
-        if (merged.failed) throw Error("report merge: " + std::to_string(merged.failed) + " jobs failed (see the report)");
-    });
-
-    auto c = std::make_shared<ContactArgs>();
-    auto* con = app.add_subcommand("contact",
-                                   "One image with every model of the catalogue (default parameters) on a sphere "
-                                   "and on a mesh, labelled");
-    con->add_option("-o,--output", c->opt.output, "Output image (.png sRGB or .exr linear)")->capture_default_str();
-    con->add_option("--mesh", c->opt.mesh, "The real mesh shown beside the sphere (default: the bundled spot.obj)");
-    con->add_option("--turn", c->opt.mesh_turn_deg, "Turn the mesh this many degrees about +y")->capture_default_str();
-    con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();
-    con->add_option("--columns", c->opt.columns, "Model tiles per row (0: about 4:3)")->capture_default_str();
-    con->add_option("-m,--model", c->models, "Only these models (repeatable; default: the whole catalogue)");
-    con->callback([c] {
-        ContactOptions o = c->opt;
-        for (const auto& m : c->models) require_model_name(m, "--model");
-        o.models = c->models;
-        Runtime rt;
-        const ContactResult r = make_contact_sheet(o, rt);
-        print_contact(r);
-        if (!r.failed.empty())
-            throw Error("contact sheet: " + std::to_string(r.failed.size()) + " models failed to shade (listed above); "
-                        "the sheet was written with their tiles empty");
-    });
+    add_report_command(app);
+    add_contact_command(app);
 }
 
 }  // namespace shadelab::app

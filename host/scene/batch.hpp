@@ -63,6 +63,7 @@ struct JobResult {
     double build_ms = 0.0;             // program builds (0 when every program was cached)
     double kernel_ms = 0.0;            // device time of the shading kernels (profiling events)
     double shade_ms = 0.0;             // wall time of shading: build + upload + kernel + download
+    double resolve_ms = 0.0;           // composing the images and AOVs from the shaded fragments
     double write_ms = 0.0;
     double mfrag_per_s() const;        // fragments / kernel time, in millions per second (0 if no kernel ran)
 };

@@ -84,6 +84,7 @@ BatchSummary read_report_json(const std::string& path) {
         r.build_ms = field<double>(j, "build_ms", w);
         r.kernel_ms = field<double>(j, "kernel_ms", w);
         r.shade_ms = field<double>(j, "shade_ms", w);
+        r.resolve_ms = j.contains("resolve_ms") ? field<double>(j, "resolve_ms", w) : 0.0;   // absent before the stage breakdown
         r.write_ms = field<double>(j, "write_ms", w);
         r.error = field<std::string>(j, "error", w);
         r.warnings = field<std::vector<std::string>>(j, "warnings", w);
