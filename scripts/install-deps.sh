@@ -18,6 +18,8 @@ PACKAGES=(
   gnuplot-nox fonts-dejavu-core
   # the Python module (pybind11 on Debian's python3 and numpy), its tests, and docs/python.md's worked example
   pybind11-dev python3-dev python3-numpy python3-pytest python3-astropy python3-matplotlib
+  # the docs' own examples, run by ctest (tests/docs/setup/): an ISIS3 cube made with GDAL's Python bindings
+  python3-gdal
   # GNU parallel: the cluster recipe of docs/batch.md and its test (tests/cli/shards.sh)
   parallel
   # bench/bench_e2e.cpp: Mesa's llvmpipe (software OpenGL) headless through EGL, and the EGL/OpenGL headers

@@ -96,6 +96,11 @@ void run_batch_command(const BatchArgs& a) {
     }
     Runtime rt;
     const BatchSummary s = run_batch(o, rt);
+    // Results on stdout (logs went to stderr): every image this run wrote or found up to date, then the report.
+    for (const auto& j : s.jobs)
+        if (j.status != JobResult::Status::Failed)
+            for (const auto& f : j.outputs) std::cout << f << "\n";
+    std::cout << s.report_json << "\n" << s.report_csv << "\n";
     if (a.contact) {
         ContactOptions co;
         co.output = (std::filesystem::path(a.out) / "contact_sheet.png").string();

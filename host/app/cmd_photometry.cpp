@@ -95,7 +95,7 @@ void run_eval(const EvalArgs& a) {
     auto s = [](auto d) { return std::chrono::duration<double>(d).count(); };
     log_out() << "rows: " << t.geometry.size() << " (read " << s(t1 - t0) << " s, evaluate " << s(t2 - t1)
               << " s incl. kernel build, write " << s(t3 - t2) << " s)\n";
-    std::cout << "wrote: " << a.out << "\n";
+    std::cout << a.out << "\n";   // the result on stdout, as every command writes its files
 }
 
 struct EmpiricalArgs {
@@ -128,7 +128,7 @@ void run_empirical(const EmpiricalArgs& a) {
         std::cout << std::setw(10) << r.phase << std::setw(14) << r.param << std::setw(14) << r.brightness
                   << std::setw(14) << r.rms << std::setw(9) << r.samples << "\n";
     write_text_atomically(a.out, "photometric table", photometry::empirical_pvl(t, o, hapke));
-    std::cout << "wrote: " << a.out << "\n";
+    std::cout << a.out << "\n";   // the result on stdout, as every command writes its files
 }
 
 struct NormalizeArgs {
@@ -305,7 +305,7 @@ void run_fit(const FitArgs& a) {
     std::cout << "pixels: " << d.value.size() << " from " << d.images << " image(s), i <= " << a.incmax << ", e <= "
               << a.emamax << " deg\n";
     Runtime rt;
-    std::cout << "device: " << rt.device_description() << "\n";
+    log_out() << "device: " << rt.device_description() << "\n";
     if (!a.model.empty()) {
         photometry::FitSpec s{a.model, start, a.free.empty() ? std::vector<std::string>{} : split(a.free, ',')};
         std::cout << photometry::describe_fit(photometry::fit_law(rt, d, s, o));
