@@ -60,13 +60,13 @@ render_all() {
         "$bin" -q render "$m" --model oren_nayar -p sigma=0.4 --albedo 0.9,0.6,0.3 --light dir:1,1,0.5:1,1,1:1.0 \
             --light point:0,4,3:1,0.8,0.6:20 --size 320x240 -o "$out/render_$stem.exr" > /dev/null
     done
-    "$bin" -q render meshes/spot.obj --model phong -p shininess=40 --per-vertex --size 256x256 -o "$out/render_spot_per_vertex.exr" > /dev/null
+    "$bin" -q render meshes/spot.obj --model phong -p n=40 --per-vertex --size 256x256 -o "$out/render_spot_per_vertex.exr" > /dev/null
     "$bin" -q render meshes/teapot.obj --model cook_torrance --precision fast --size 256x256 -o "$out/render_teapot_fast.exr" > /dev/null
     "$bin" -q render meshes/spot.obj --model minnaert_1941 --tolerance 0.5 --size 128x128 -o "$out/render_spot_planned.exr" > /dev/null
     "$bin" -q moon render --model minnaert --k 0.7 --phase 30 --size 256x256 -o "$out/moon_minnaert.exr" > /dev/null
     "$bin" -q moon render -m hapke_hen -p wh=0.52 -p b0=1 -p hh=1 -p theta=30 -p hg1=0.213 -p hg2=1 --phase 40 \
         --size 256x256 -o "$out/moon_hapke.exr" > /dev/null
-    "$bin" -q moon render -m lommel_seeliger --phase 60 --mesh 3 --size 200x200 -o "$out/moon_ls_icosphere.exr" > /dev/null
+    "$bin" -q moon render -m minnaert_1941 -p k=0.7 --phase 60 --mesh 3 --size 200x200 -o "$out/moon_minnaert_icosphere.exr" > /dev/null
     "$bin" -q moon render -m oren_nayar -p sigma=0.3 --phase 20 --mesh 2 --size 200x200 -o "$out/moon_on_icosphere.exr" > /dev/null
 }
 

@@ -93,7 +93,6 @@ struct Prepared {
     Scene scene;
     pipeline::Job job;                     // the scene as the render path takes it (planned when --tolerance)
     pipeline::Frame frame;
-    pipeline::StageTimes times;
     bool settled = false;                  // skipped or failed: nothing to shade
     std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
 };
@@ -212,17 +211,6 @@ std::string plan_note(Runtime& rt, const BatchOptions& opt, pipeline::Job& job, 
     return note.str();
 }
 
-// Copies the stage times into the report's fields.
-void record_times(JobResult& r, const pipeline::StageTimes& t) {
-    r.load_ms = t.load_ms;
-    r.raster_ms = t.raster_ms;
-    r.build_ms = t.build_ms;
-    r.kernel_ms = t.kernel_ms;
-    r.shade_ms = t.shade_ms;
-    r.resolve_ms = t.resolve_ms;
-    r.write_ms = t.write_ms;
-}
-
 // Fills the report fields the scene file alone gives.
 void describe_scene(JobResult& r, const Scene& s) {
     r.name = s.name;
@@ -254,7 +242,7 @@ Prepared Runner::prepare(const BatchJob& job) {
         if (!opt_.force && up_to_date(s)) {
             r.status = JobResult::Status::Skipped;
             p.settled = true;
-            r.load_ms = ms_since(t0);
+            r.times.load_ms = ms_since(t0);
             return p;
         }
         check_memory("scene '" + s.file + "': resolution " + std::to_string(s.width) + "x" + std::to_string(s.height),
@@ -262,28 +250,27 @@ Prepared Runner::prepare(const BatchJob& job) {
         SceneGeometry geo = load_scene_geometry(s, [this](const std::string& path) { return meshes_.get(path); });
         r.triangles = geo.triangles;
         p.job = job_for(s, geo, opt_.raster_threads);
-        p.times.load_ms = ms_since(t0);
-        if (opt_.tolerance > 0.0) r.warnings.push_back(plan_note(rt_, opt_, p.job, p.times));
-        p.frame = pipeline::raster(p.job, p.times);
+        p.result.times.load_ms = ms_since(t0);
+        if (opt_.tolerance > 0.0) r.warnings.push_back(plan_note(rt_, opt_, p.job, p.result.times));
+        p.frame = pipeline::raster(p.job, p.result.times);
         r.fragments = p.frame.fb.size();
         if (p.frame.fb.empty())
             r.warnings.push_back("the meshes cover no pixel from this camera: the images hold the background only");
     } catch (const Error& e) {
         fail(p, e.what());
-        if (p.times.load_ms == 0.0) p.times.load_ms = ms_since(t0);
+        if (p.result.times.load_ms == 0.0) p.result.times.load_ms = ms_since(t0);
     } catch (const std::exception& e) {
         fail(p, job.label() + ": internal error: " + e.what());
     }
-    record_times(r, p.times);
     return p;
 }
 
 void Runner::shade(Prepared& p) {
     const Scene& s = p.scene;
     try {
-        const auto rgb = pipeline::shade(shader_, p.job, p.frame, p.times);
+        const auto rgb = pipeline::shade(shader_, p.job, p.frame, p.result.times);
         // The images, composed here; written by write() (on its own thread when overlapping).
-        p.images = pipeline::resolve(p.job, p.frame, rgb, p.times);
+        p.images = pipeline::resolve(p.job, p.frame, rgb, p.result.times);
         p.frame = pipeline::Frame{};   // not needed any more: free it before the next job's arrives
     } catch (const Error& e) {
         const std::string what = e.what();
@@ -291,20 +278,18 @@ void Runner::shade(Prepared& p) {
     } catch (const std::exception& e) {
         fail(p, "scene '" + s.file + "': internal error: " + e.what());
     }
-    record_times(p.result, p.times);
 }
 
 // Writes every image atomically (write_image: temporary file, then rename). Never throws.
 void Runner::write(Prepared& p) {
     try {
-        pipeline::write(p.images, p.times);
+        pipeline::write(p.images, p.result.times);
     } catch (const Error& e) {
         fail(p, "scene '" + p.scene.file + "': " + e.what());
     } catch (const std::exception& e) {
         fail(p, "scene '" + p.scene.file + "': internal error while writing: " + e.what());
     }
     p.images.clear();
-    record_times(p.result, p.times);
 }
 
 std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
@@ -313,9 +298,9 @@ std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
     for (const auto& o : r.outputs) outs += (outs.empty() ? "" : ", ") + o;
     if (r.status == JobResult::Status::Skipped) return head + "up to date: " + r.job.label() + " (" + outs + ")";
     std::string line = head + "ok: " + r.job.label() + ": " + std::to_string(r.fragments) + " fragments, raster " +
-                       fixed(r.raster_ms, 1) + " ms, kernel " + fixed(r.kernel_ms, 1) + " ms (" +
+                       fixed(r.times.raster_ms, 1) + " ms, kernel " + fixed(r.times.kernel_ms, 1) + " ms (" +
                        fixed(r.mfrag_per_s(), 1) + " Mfrag/s)";
-    if (r.build_ms > 0.0) line += ", build " + fixed(r.build_ms, 0) + " ms";
+    if (r.times.build_ms > 0.0) line += ", build " + fixed(r.times.build_ms, 0) + " ms";
     return line + " -> " + outs;
 }
 
@@ -436,13 +421,7 @@ void Runner::log_summary(std::ostream& log, const BatchSummary& sum, std::size_t
     pipeline::StageTimes t;
     std::size_t frags = 0;
     for (const auto& r : sum.jobs) {
-        t.load_ms += r.load_ms;
-        t.raster_ms += r.raster_ms;
-        t.kernel_ms += r.kernel_ms;
-        t.build_ms += r.build_ms;
-        t.shade_ms += r.shade_ms;
-        t.resolve_ms += r.resolve_ms;
-        t.write_ms += r.write_ms;
+        t += r.times;
         frags += r.fragments;
     }
     log << "batch: " << sum.jobs.size() << " jobs";
@@ -468,7 +447,7 @@ std::string BatchJob::label() const {
     return mesh.empty() ? "scene '" + scene + "'" : "scene '" + scene + "' with mesh '" + mesh + "'";
 }
 
-double JobResult::mfrag_per_s() const { return kernel_ms > 0.0 ? double(fragments) / kernel_ms / 1000.0 : 0.0; }
+double JobResult::mfrag_per_s() const { return times.kernel_ms > 0.0 ? double(fragments) / times.kernel_ms / 1000.0 : 0.0; }
 
 const char* status_name(JobResult::Status s) {
     switch (s) {
@@ -556,13 +535,13 @@ void write_report_json(const BatchSummary& s, const std::string& path) {
                         {"height", r.height},
                         {"triangles", r.triangles},
                         {"fragments", r.fragments},
-                        {"load_ms", r.load_ms},
-                        {"raster_ms", r.raster_ms},
-                        {"build_ms", r.build_ms},
-                        {"kernel_ms", r.kernel_ms},
-                        {"shade_ms", r.shade_ms},
-                        {"resolve_ms", r.resolve_ms},
-                        {"write_ms", r.write_ms},
+                        {"load_ms", r.times.load_ms},
+                        {"raster_ms", r.times.raster_ms},
+                        {"build_ms", r.times.build_ms},
+                        {"kernel_ms", r.times.kernel_ms},
+                        {"shade_ms", r.times.shade_ms},
+                        {"resolve_ms", r.times.resolve_ms},
+                        {"write_ms", r.times.write_ms},
                         {"mfrag_per_s", r.mfrag_per_s()},
                         {"error", r.error},
                         {"warnings", r.warnings}});
@@ -597,7 +576,8 @@ void write_report_csv(const BatchSummary& s, const std::string& path) {
         t.row().add_count(r.job.index).add_quoted(r.job.scene).add_quoted(r.job.mesh).add_quoted(r.name)
             .add_quoted(status_name(r.status)).add_quoted(outs).add_quoted(models).add_count(std::size_t(r.width))
             .add_count(std::size_t(r.height)).add_count(r.triangles).add_count(r.fragments);
-        for (double ms : {r.load_ms, r.raster_ms, r.build_ms, r.kernel_ms, r.shade_ms, r.resolve_ms, r.write_ms,
+        const pipeline::StageTimes& tm = r.times;
+        for (double ms : {tm.load_ms, tm.raster_ms, tm.build_ms, tm.kernel_ms, tm.shade_ms, tm.resolve_ms, tm.write_ms,
                           r.mfrag_per_s()})
             t.add_fixed(ms, 3);
         t.add_quoted(r.error);
