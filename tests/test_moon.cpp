@@ -34,6 +34,7 @@
 using namespace shadelab;
 using namespace shadelab::moon;
 using shadelab::plot::find_gnuplot;
+using shadelab::plot::run_gnuplot;
 namespace fs = std::filesystem;
 
 namespace {

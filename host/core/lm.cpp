@@ -117,7 +117,10 @@ Outcome minimise(const Settings& s, const Callbacks& cb, double cost) {
                     kept_y.push_back(std::move(y));
                 }
             }
-            if (kept_y.empty()) break;
+            if (kept_y.empty()) {   // every damped step lands on the current point: nothing moves it
+                out.converged = true;
+                return out;
+            }
             const std::vector<double> costs = cb.evaluate();
             std::size_t best = 0;
             for (std::size_t q = 1; q < costs.size(); ++q)
