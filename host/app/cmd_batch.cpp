@@ -196,7 +196,8 @@ void add_batch_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--force", a->force, "Re-render outputs that are newer than their scene and meshes");
     cmd->add_option("--tolerance", a->tolerance,
-                    "Plan each job and shade with the cheapest configuration within this error (docs/planner.md)");
+                    "Plan each job and shade with the cheapest configuration within this error (docs/planner.md); "
+                    "per-pixel candidates only (a scene asks for per vertex with \"per_vertex\": true)");
     cmd->add_option("--metric", a->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")->capture_default_str();
     cmd->add_flag("--no-catalogue", a->no_catalogue,
                   "With --tolerance: only the requested model or Lambert per job, no catalogue search (docs/planner.md)");

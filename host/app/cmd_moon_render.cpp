@@ -184,6 +184,9 @@ void add_render(CLI::App* moon) {
     c->add_option("-o,--output", a->output, "Output image: .exr .tif .fits (linear float) or .png (sRGB 8-bit)")
         ->capture_default_str();
     c->add_flag("-q,--quiet", a->quiet, "Print only the output path");
+    c->footer("A catalogue model's disc goes through the render path per pixel at precise precision, with no "
+              "--per-vertex, --precision or --tolerance: the disc is measured against closed forms pixel for pixel "
+              "(docs/moon.md), which per-vertex shading, fast built-ins or a planned stand-in would defeat.");
     c->callback([a] { run_render(*a); });
 }
 
