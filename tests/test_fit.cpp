@@ -374,7 +374,7 @@ TEST_CASE("fit: the JSON holds the contract keys, and --all writes results with 
 }
 
 namespace {
-// Rows of a CSV written by moon::CsvTable (no quoting: it writes no commas inside fields).
+// Rows of a CSV written by CsvTable (core/csv.hpp) (no quoting: it writes no commas inside fields).
 std::vector<std::map<std::string, std::string>> read_csv(const std::string& path) {
     std::ifstream in(path);
     std::vector<std::map<std::string, std::string>> rows;

@@ -19,6 +19,7 @@
 #include <random>
 
 #include "cl/runtime.hpp"
+#include "core/csv.hpp"
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
 #include "moon/disc.hpp"
@@ -26,11 +27,14 @@
 #include "image/fits.hpp"
 #include "moon/photometry.hpp"
 #include "moon/plot.hpp"
+#include "plot/gnuplot.hpp"
 #include "reference/reference.hpp"
 #include "support.hpp"
 
 using namespace shadelab;
 using namespace shadelab::moon;
+using shadelab::plot::find_gnuplot;
+using shadelab::plot::run_gnuplot;
 namespace fs = std::filesystem;
 
 namespace {

@@ -39,6 +39,7 @@ struct BatchArgs {
 struct ContactArgs {
     ContactOptions opt;
     std::vector<std::string> models;
+    std::string precision = "precise";
 };
 
 void print_contact(const ContactResult& r) {
@@ -111,41 +112,8 @@ void run_batch_command(const BatchArgs& a) {
                     " jobs failed (each is a 'scene ...' line above; details in " + s.report_json + ")");
 }
 
-}  // namespace
-
-void add_batch_command(CLI::App& app) {
-    auto a = std::make_shared<BatchArgs>();
-    auto* cmd = app.add_subcommand(
-        "batch",
-        "Shade many scene files (or one template scene over a folder of meshes) in one process; schema in docs/batch.md");
-    cmd->add_option("scenes", a->scenes, "Scene files (.json) or folders of them");
-    cmd->add_option("--manifest", a->manifest,
-                    "A text file with one scene file per line (relative to the manifest's folder; blank lines and "
-                    "lines starting with # are skipped), added to the scenes given");
-    cmd->add_option("--meshes", a->meshes, "Template mode: shade every .obj .off .ply .stl in this folder ...");
-    cmd->add_option("--scene", a->scene_template, "... with this template scene (its one mesh entry is replaced)");
-    cmd->add_option("-o,--out", a->out, "Folder that relative output paths of the scenes are written under")
-        ->capture_default_str();
-    cmd->add_option("--report", a->report,
-                    "Report path (.json; a .csv is written beside it). Default: OUT/batch_report.json "
-                    "(OUT/batch_report_shardIofN.json when sharded)");
-    cmd->add_option("--shard", a->shard,
-                    "i/N: run only the jobs whose index in the sorted job list satisfies index % N == i-1")
-        ->capture_default_str();
-    cmd->add_flag("--force", a->force, "Re-render outputs that are newer than their scene and meshes");
-    cmd->add_option("--tolerance", a->tolerance,
-                    "Plan each job and shade with the cheapest configuration within this error (docs/planner.md)");
-    cmd->add_option("--metric", a->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")->capture_default_str();
-    cmd->add_flag("--no-catalogue", a->no_catalogue,
-                  "With --tolerance: only the requested model or Lambert per job, no catalogue search (docs/planner.md)");
-    cmd->add_flag("--no-overlap", a->no_overlap,
-                  "Rasterise each job right before it shades instead of during the previous job's shading");
-    cmd->add_option("--progress", a->progress, "auto (bar on a terminal, lines otherwise), bar, lines or quiet")
-        ->capture_default_str();
-    cmd->add_flag("--contact", a->contact, "Also write OUT/contact_sheet.png (see 'shadelab contact')");
-    cmd->add_flag("--list", a->list, "Print this shard's jobs (index, scene, mesh) and exit without rendering");
-    cmd->callback([a] { run_batch_command(*a); });
-
+// shadelab report merge: the shards' reports -> the report an unsharded run writes.
+void add_report_command(CLI::App& app) {
     struct MergeArgs {
         std::vector<std::string> reports;
         std::string out;
@@ -173,7 +141,10 @@ void add_batch_command(CLI::App& app) {
         std::cout << merged.report_json << "\n" << merged.report_csv << "\n";
         if (merged.failed) throw Error("report merge: " + std::to_string(merged.failed) + " jobs failed (see the report)");
     });
+}
 
+// shadelab contact: every model on a sphere and a mesh (host/scene/contact.hpp).
+void add_contact_command(CLI::App& app) {
     auto c = std::make_shared<ContactArgs>();
     auto* con = app.add_subcommand("contact",
                                    "One image with every model of the catalogue (default parameters) on a sphere "
@@ -184,8 +155,14 @@ void add_batch_command(CLI::App& app) {
     con->add_option("--cell", c->opt.cell, "Side of each rendered square in pixels")->capture_default_str();
     con->add_option("--columns", c->opt.columns, "Model tiles per row (0: about 4:3)")->capture_default_str();
     con->add_option("-m,--model", c->models, "Only these models (repeatable; default: the whole catalogue)");
+    con->add_option("--precision", c->precision, "Kernel precision of every tile: precise or fast (docs/precision.md)")
+        ->capture_default_str();
+    con->add_flag("--per-vertex", c->opt.per_vertex, "Shade every tile at the vertices and interpolate (Gouraud)");
+    con->footer("No --tolerance (the sheet shows each model as it is, not a cheaper stand-in) and no AOVs (every tile "
+                "has the same sphere and mesh: 'render --depth/--normal' writes them).");
     con->callback([c] {
         ContactOptions o = c->opt;
+        o.precision = parse_precision(c->precision);
         for (const auto& m : c->models) require_model_name(m, "--model");
         o.models = c->models;
         Runtime rt;
@@ -195,6 +172,46 @@ void add_batch_command(CLI::App& app) {
             throw Error("contact sheet: " + std::to_string(r.failed.size()) + " models failed to shade (listed above); "
                         "the sheet was written with their tiles empty");
     });
+}
+
+}  // namespace
+
+void add_batch_command(CLI::App& app) {
+    auto a = std::make_shared<BatchArgs>();
+    auto* cmd = app.add_subcommand(
+        "batch",
+        "Shade many scene files (or one template scene over a folder of meshes) in one process; schema in docs/batch.md");
+    cmd->add_option("scenes", a->scenes, "Scene files (.json) or folders of them");
+    cmd->add_option("--manifest", a->manifest,
+                    "A text file with one scene file per line (relative to the manifest's folder; blank lines and "
+                    "lines starting with # are skipped), added to the scenes given");
+    cmd->add_option("--meshes", a->meshes, "Template mode: shade every .obj .off .ply .stl in this folder ...");
+    cmd->add_option("--scene", a->scene_template, "... with this template scene (its one mesh entry is replaced)");
+    cmd->add_option("-o,--out", a->out, "Folder that relative output paths of the scenes are written under")
+        ->capture_default_str();
+    cmd->add_option("--report", a->report,
+                    "Report path (.json; a .csv is written beside it). Default: OUT/batch_report.json "
+                    "(OUT/batch_report_shardIofN.json when sharded)");
+    cmd->add_option("--shard", a->shard,
+                    "i/N: run only the jobs whose index in the sorted job list satisfies index % N == i-1")
+        ->capture_default_str();
+    cmd->add_flag("--force", a->force, "Re-render outputs that are newer than their scene and meshes");
+    cmd->add_option("--tolerance", a->tolerance,
+                    "Plan each job and shade with the cheapest configuration within this error (docs/planner.md); "
+                    "per-pixel candidates only (a scene asks for per vertex with \"per_vertex\": true)");
+    cmd->add_option("--metric", a->metric, "Tolerance metric: de2000 (max Delta E 2000) or relative")->capture_default_str();
+    cmd->add_flag("--no-catalogue", a->no_catalogue,
+                  "With --tolerance: only the requested model or Lambert per job, no catalogue search (docs/planner.md)");
+    cmd->add_flag("--no-overlap", a->no_overlap,
+                  "Rasterise each job right before it shades instead of during the previous job's shading");
+    cmd->add_option("--progress", a->progress, "auto (bar on a terminal, lines otherwise), bar, lines or quiet")
+        ->capture_default_str();
+    cmd->add_flag("--contact", a->contact, "Also write OUT/contact_sheet.png (see 'shadelab contact')");
+    cmd->add_flag("--list", a->list, "Print this shard's jobs (index, scene, mesh) and exit without rendering");
+    cmd->callback([a] { run_batch_command(*a); });
+
+    add_report_command(app);
+    add_contact_command(app);
 }
 
 }  // namespace shadelab::app

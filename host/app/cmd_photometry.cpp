@@ -328,12 +328,8 @@ void run_fit(const FitArgs& a) {
     std::cout << "best: " << ranked[0].model << "\n";
 }
 
-}  // namespace
-
-void add_photometry_command(CLI::App& app) {
-    auto* cmd = app.add_subcommand("photometry", "ISIS3's photometric models (Hapke, Lunar-Lambert, Minnaert, ...) "
-                                                 "at photometric angles, from ISIS PVL files (docs/photometry.md)");
-    cmd->require_subcommand(1);
+// photometry eval
+void add_eval(CLI::App* cmd) {
     auto a = std::make_shared<EvalArgs>();
     auto* ev = cmd->add_subcommand("eval", "Evaluate a photometric law at one geometry or every row of a CSV table");
     ev->add_option("--pvl", a->pvl, "ISIS photometric parameter file (Object = PhotometricModel, Group = Algorithm)");
@@ -347,7 +343,10 @@ void add_photometry_command(CLI::App& app) {
     ev->add_flag("--reference", a->reference, "also print the double-precision reference (one geometry)");
     ev->add_option("--precision", a->precision, "precise | fast (docs/precision.md)")->capture_default_str();
     ev->callback([a] { run_eval(*a); });
+}
 
+// photometry empirical
+void add_empirical(CLI::App* cmd) {
     auto b = std::make_shared<EmpiricalArgs>();
     auto* em = cmd->add_subcommand("empirical", "Fit Lunar-Lambert L(g) or Minnaert K(g) and a phase curve to a Hapke "
                                                 "sphere, as ISIS's phoempglobal; write the PVL table ISIS reads");
@@ -367,7 +366,10 @@ void add_photometry_command(CLI::App& app) {
     em->add_flag("--offset", b->o.offset, "fit an additive offset too (phoempglobal's IORD); B is then not normalised");
     em->add_option("-o,--out", b->out, "output PVL table");
     em->callback([b] { run_empirical(*b); });
+}
 
+// photometry normalize
+void add_normalize(CLI::App* cmd) {
     auto c = std::make_shared<NormalizeArgs>();
     auto* nm = cmd->add_subcommand("normalize", "Normalise an image to a standard geometry with a photometric law "
                                                 "(ISIS photomet's albedo and shade modes)");
@@ -389,7 +391,10 @@ void add_photometry_command(CLI::App& app) {
     nm->add_option("--backplanes", c->backplanes, "or per-pixel PHASE,INCIDENCE,EMISSION images in degrees");
     nm->add_option("-o,--out", c->out, "output image (.exr: linear float; alpha 0 where there is no value)");
     nm->callback([c] { run_normalize(*c); });
+}
 
+// photometry fit-disc
+void add_fit_disc(CLI::App* cmd) {
     auto f = std::make_shared<FitDiscArgs>();
     auto* fd = cmd->add_subcommand("fit-disc", "Fit Lunar-Lambert L or Minnaert K and the brightness to a disc image at "
                                                "its phase (phoempglobal's fit, on a user's pixels)");
@@ -403,6 +408,10 @@ void add_photometry_command(CLI::App& app) {
     fd->add_option("--emamax", f->emamax, "largest emission used, degrees")->capture_default_str();
     fd->add_flag("--offset", f->offset, "fit an additive offset too");
     fd->callback([f] { run_fit_disc(*f); });
+}
+
+// photometry fit
+void add_fit(CLI::App* cmd) {
     auto h = std::make_shared<FitArgs>();
     auto* ft = cmd->add_subcommand("fit", "Fit Hapke or a simpler law to one or several images at different phases "
                                           "(bounded least squares on PoCL, standard errors, correlations); --models "
@@ -424,6 +433,19 @@ void add_photometry_command(CLI::App& app) {
     ft->add_option("--max-iterations", h->max_iterations, "Levenberg-Marquardt iterations")->capture_default_str();
     ft->add_option("--precision", h->precision, "precise | fast (docs/precision.md)")->capture_default_str();
     ft->callback([h] { run_fit(*h); });
+}
+
+}  // namespace
+
+void add_photometry_command(CLI::App& app) {
+    auto* cmd = app.add_subcommand("photometry", "ISIS3's photometric models (Hapke, Lunar-Lambert, Minnaert, ...) "
+                                                 "at photometric angles, from ISIS PVL files (docs/photometry.md)");
+    cmd->require_subcommand(1);
+    add_eval(cmd);
+    add_empirical(cmd);
+    add_normalize(cmd);
+    add_fit_disc(cmd);
+    add_fit(cmd);
 }
 
 }  // namespace shadelab::app

@@ -7,10 +7,13 @@
 #include "app/commands.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/log.hpp"
 #include "core/limits.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
+#include "pipeline/pipeline.hpp"
+#include "plan/plan_job.hpp"
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
 #include "plan/planner.hpp"
@@ -43,25 +46,11 @@ struct RenderArgs {
     std::string metric = "de2000";
     std::string max_memory;            // overrides the memory limit (core/limits.hpp)
     bool no_catalogue = false;         // --tolerance without the per-material catalogue search (the old planner)
+    std::string depth, normal;         // AOVs: view-space depth, world-space normal (.exr)
 };
 
 
-void parse_size(const std::string& s, int& w, int& h) {
-    int a = 0, b = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(s.c_str(), "%d%c%d%c", &a, &x, &b, &extra) != 3 || (x != 'x' && x != 'X'))
-        throw Error("--size expects WIDTHxHEIGHT such as 512x512, got '" + s + "'");
-    if (a < 1 || b < 1 || a > 16384 || b > 16384) throw Error("--size " + s + ": each side must be in [1, 16384]");
-    w = a;
-    h = b;
-}
-
-void run_render(RenderArgs a) {
-    if (log_level() == LogLevel::Quiet) a.quiet = true;   // the global -q means what render's own -q means
-    using clock = std::chrono::steady_clock;
-    auto ms = [](auto t0, auto t1) { return std::chrono::duration<double, std::milli>(t1 - t0).count(); };
-    encoding_for(a.output);   // reject a bad extension before any work
-
+Material material_of(const RenderArgs& a) {
     require_model_name(a.model, "--model");
     Material mat;
     mat.model = a.model;
@@ -71,104 +60,100 @@ void run_render(RenderArgs a) {
     }
     mat.albedo = parse_vec3(a.albedo, "--albedo", 0.0, kMaxColour);
     mat.specular = parse_vec3(a.specular, "--specular", 0.0, kMaxColour);
-    mat = resolve_material(mat, "--model " + a.model);
+    return resolve_material(mat, "--model " + a.model);
+}
 
-    std::vector<Light> lights;
-    for (const auto& l : a.lights) lights.push_back(parse_light(l));
-    if (a.lights.empty()) lights.push_back(Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1, 1, 1}, 1.0, 0.0});
+Camera camera_of(const RenderArgs& a, const Mesh& mesh, int w, int h) {
+    if (a.eye.empty()) return Camera::fit(mesh.bounds(), parse_vec3(a.view_from, "--view-from"), a.fov, double(w) / h);
+    Camera cam;
+    cam.eye = parse_vec3(a.eye, "--eye", -kMaxCoordinate, kMaxCoordinate);
+    cam.target = a.target.empty() ? mesh.bounds().centre() : parse_vec3(a.target, "--target", -kMaxCoordinate, kMaxCoordinate);
+    cam.up = parse_vec3(a.up, "--up", -kMaxCoordinate, kMaxCoordinate);
+    cam.fov_y_deg = a.fov;
+    const double dist = glm::length(cam.eye - cam.target) + mesh.bounds().radius() * 4.0;
+    cam.z_near = std::max(1e-4, dist * 1e-4);
+    cam.z_far = dist * 4.0;
+    return cam;
+}
 
-    int w = 0, h = 0;
-    parse_size(a.size, w, h);
+// An AOV output (--depth, --normal) must be a linear float format, as a scene's "depth" and "normal".
+std::string aov_path(const std::string& path, const std::string& option) {
+    if (!path.empty() && encoding_for(path) != Encoding::Linear)
+        throw Error(option + " '" + path + "' is not a linear float format: use .exr");
+    return path;
+}
+
+// Everything but the mesh: options checked before any work.
+pipeline::Job job_of(const RenderArgs& a) {
+    encoding_for(a.output);   // reject a bad extension before any work
+    pipeline::Job job;
+    job.meshes.push_back(pipeline::JobMesh{Mesh{}, material_of(a), a.cull});
+    for (const auto& l : a.lights) job.lights.push_back(parse_light(l));
+    if (a.lights.empty()) job.lights.push_back(Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1, 1, 1}, 1.0, 0.0});
+    const ImageSize size = parse_size(a.size, "--size", 1, 16384);
+    job.width = size.width;
+    job.height = size.height;
     if (!a.max_memory.empty()) set_memory_limit(parse_bytes(a.max_memory, "--max-memory"));
-    check_memory("--size " + a.size, double(w) * double(h) * kRenderBytesPerPixel);
-    const glm::dvec3 ambient = parse_vec3(a.ambient, "--ambient", 0.0, kMaxColour);
-    const glm::dvec4 background = parse_vec4(a.background, "--background", 1.0);
-    for (int c = 0; c < 3; ++c) in_range(background[c], "--background", -kMaxColour, kMaxColour);
-    in_range(background[3], "--background alpha", 0.0, 1.0);
+    check_memory("--size " + a.size, double(job.width) * double(job.height) * kRenderBytesPerPixel);
+    job.ambient = parse_vec3(a.ambient, "--ambient", 0.0, kMaxColour);
+    job.background = parse_vec4(a.background, "--background", 1.0);
+    for (int c = 0; c < 3; ++c) in_range(job.background[c], "--background", -kMaxColour, kMaxColour);
+    in_range(job.background[3], "--background alpha", 0.0, 1.0);
+    job.precision = parse_precision(a.precision);
+    job.per_vertex = a.per_vertex;
+    job.outputs.colour = {a.output};
+    job.outputs.depth = aov_path(a.depth, "--depth");
+    job.outputs.normal = aov_path(a.normal, "--normal");
+    return job;
+}
 
-    const auto t0 = clock::now();
+PlanOptions plan_options(const RenderArgs& a) {
+    PlanOptions po;
+    po.tolerance = a.tolerance;
+    po.catalogue = !a.no_catalogue;
+    if (a.metric == "relative") po.metric = PlanMetric::Relative;
+    else if (a.metric != "de2000") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
+    return po;
+}
+
+// A render is a one-job batch: the job described by the options, run through the same stages (host/pipeline/).
+void run_render(RenderArgs a) {
+    if (log_level() == LogLevel::Quiet) a.quiet = true;   // the global -q means what render's own -q means
+    pipeline::Job job = job_of(a);
+    const PlanOptions po = a.tolerance > 0.0 ? plan_options(a) : PlanOptions{};
+
+    pipeline::StageTimes times;
+    const auto t0 = std::chrono::steady_clock::now();
     MeshLoadReport report;
-    Mesh mesh = load_mesh(a.mesh, &report);
-    const auto t1 = clock::now();
+    job.meshes.front().mesh = load_mesh(a.mesh, &report);
+    times.load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const Mesh& mesh = job.meshes.front().mesh;
     if (!a.quiet) {
         std::cerr << "mesh " << a.mesh << ": " << report.triangles_out << " triangles, " << report.vertices_in
                   << " vertices, normals " << (report.normals_from_file ? "from file" : "computed (area-weighted)")
                   << "\n";
         for (const auto& note : report.notes) std::cerr << "  repaired: " << note << "\n";
     }
-
-    Camera cam;
-    if (!a.eye.empty()) {
-        cam.eye = parse_vec3(a.eye, "--eye", -kMaxCoordinate, kMaxCoordinate);
-        cam.target = a.target.empty() ? mesh.bounds().centre() : parse_vec3(a.target, "--target", -kMaxCoordinate, kMaxCoordinate);
-        cam.up = parse_vec3(a.up, "--up", -kMaxCoordinate, kMaxCoordinate);
-        cam.fov_y_deg = a.fov;
-        const double dist = glm::length(cam.eye - cam.target) + mesh.bounds().radius() * 4.0;
-        cam.z_near = std::max(1e-4, dist * 1e-4);
-        cam.z_far = dist * 4.0;
-    } else {
-        cam = Camera::fit(mesh.bounds(), parse_vec3(a.view_from, "--view-from"), a.fov, double(w) / h);
-    }
-
-    RasterOptions ro;
-    ro.width = w;
-    ro.height = h;
-    ro.cull_backfaces = a.cull;
-    RasterStats rs;
-    const FragmentBuffer fb = rasterize(mesh, cam, ro, &rs);
-    const auto t2 = clock::now();
-    if (fb.empty())
-        std::cerr << "warning: the mesh covers no pixel from this camera (eye " << cam.eye.x << "," << cam.eye.y
-                  << "," << cam.eye.z << "): the image is background only; check --eye/--target/--view-from\n";
+    job.camera = camera_of(a, mesh, job.width, job.height);
 
     Runtime rt;
     Shader shader(rt);
-    ShadeSetup setup;
-    setup.material = mat;
-    setup.lights = lights;
-    setup.ambient = ambient;
-    setup.view = glm::dvec4(cam.eye, 1.0);
-    setup.precision = parse_precision(a.precision);
-    bool per_vertex = a.per_vertex;
-    double plan_ms = 0.0;   // stated apart from shading, which starts after the plan
+    const pipeline::Frame frame = pipeline::raster(job, times);
+    if (frame.fb.empty())
+        std::cerr << "warning: the mesh covers no pixel from this camera (eye " << job.camera.eye.x << ","
+                  << job.camera.eye.y << "," << job.camera.eye.z
+                  << "): the image is background only; check --eye/--target/--view-from\n";
     if (a.tolerance > 0.0) {
-        PlanInput pin;
-        pin.camera = cam;
-        pin.width = w;
-        pin.height = h;
-        pin.items.push_back(PlanItem{mesh, mat, a.cull, -1, glm::dmat4(1.0)});
-        pin.lights = lights;
-        pin.ambient = setup.ambient;
-        PlanOptions po;
-        po.tolerance = a.tolerance;
-        po.catalogue = !a.no_catalogue;
-        if (a.metric == "relative") po.metric = PlanMetric::Relative;
-        else if (a.metric != "de2000") throw Error("--metric must be 'de2000' or 'relative', got '" + a.metric + "'");
-        const Plan plan = make_plan(rt, pin, po);
+        const Plan plan = plan_job(rt, job, po, times);
         if (!a.quiet) std::cerr << format_plan(plan, po);
-        setup.material = plan.materials.front();
-        setup.lights = plan.kept_lights;
-        setup.precision = plan.chosen.config.precision;
-        per_vertex = plan.chosen.config.per_vertex;
-        plan_ms = plan.planning_ms;
     }
-    const auto t2s = clock::now();
-    ShadeTiming st;
-    const auto rgb = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, setup, &st))
-                                : shader.shade(fb, setup, &st);
-    const auto t3 = clock::now();
-    const Image img = compose_image(fb, rgb, background);
-    write_image(a.output, img);
-    const auto t4 = clock::now();
+    const auto rgb = pipeline::shade(shader, job, frame, times);
+    pipeline::write(pipeline::resolve(job, frame, rgb, times), times);
     if (!a.quiet) {
         std::cerr << "device " << rt.device_description() << "\n";
-        std::cerr << "load " << ms(t0, t1) << " ms, rasterise " << ms(t1, t2) << " ms (" << fb.size()
-                  << " fragments), "
-                  << (a.tolerance > 0.0 ? "plan " + std::to_string(plan_ms) + " ms, " : std::string()) << "shade "
-                  << ms(t2s, t3) << " ms (kernel " << st.kernel_ms << " ms, build "
-                  << st.build_ms << " ms), write " << ms(t3, t4) << " ms\n";
+        std::cerr << frame.fb.size() << " fragments; " << pipeline::describe(times) << "\n";
     }
-    std::cout << a.output << "\n";
+    for (const auto& o : job.outputs.all()) std::cout << o << "\n";
 }
 
 }  // namespace
@@ -207,7 +192,9 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_flag("--no-catalogue", args->no_catalogue,
                   "With --tolerance: only the requested model or Lambert, no catalogue search (docs/planner.md)");
-    cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path");
+    cmd->add_option("--depth", args->depth, "Also write the view-space depth (AOV, one linear channel, 0 where no surface): .exr");
+    cmd->add_option("--normal", args->normal, "Also write the world-space normal (AOV, RGBA, alpha = coverage): .exr");
+    cmd->add_flag("-q,--quiet", args->quiet, "Print only the output path(s)");
     cmd->add_option("--max-memory", args->max_memory,
                     "Refuse sizes needing more memory than this (e.g. 32G; default: the machine's memory, or SHADELAB_MAX_MEMORY)");
     cmd->callback([args] { run_render(*args); });

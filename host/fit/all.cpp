@@ -12,7 +12,8 @@
 
 #include "core/error.hpp"
 #include "fit/report.hpp"
-#include "moon/plot.hpp"
+#include "core/csv.hpp"
+#include "plot/gnuplot.hpp"
 #include "speed/pareto.hpp"
 
 namespace fs = std::filesystem;
@@ -40,8 +41,8 @@ constexpr double kErrorFloor = 1e-9;
 // One panel: error column `col` against speed, every model a point, the front a line with its members labelled.
 std::string panel(const std::string& csv, const std::vector<AllRow>& rows, bool model_error, const std::string& title,
                   const std::string& metric) {
-    using moon::gp_number;
-    using moon::gp_string;
+    using plot::gp_number;
+    using plot::gp_string;
     std::vector<speed::ParetoPoint> pts;
     std::vector<bool> on;
     double xlo = 1e300, xhi = 0, ylo = 1e300, yhi = 0;
@@ -127,7 +128,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
     if (models.empty())
         for (const auto& m : model_catalogue()) models.push_back(m.name);
     for (const auto& m : models) find_model(m);   // every name checked before the long run
-    if (!o.out_dir.empty()) moon::find_gnuplot();
+    if (!o.out_dir.empty()) plot::find_gnuplot();
     const Material& target = problem.target_material();
     AllResult out;
     out.target_model = target.model;
@@ -209,7 +210,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
     if (!o.out_dir.empty()) {
         const std::string csv = (fs::path(o.out_dir) / "fit_all.csv").string();
         const std::string png = (fs::path(o.out_dir) / "fit_all.png").string();
-        moon::CsvTable t({"rank", "model", "family", "params", "albedo", "rel_rms", "rms", "max_abs", "rel_max",
+        CsvTable t({"rank", "model", "family", "params", "albedo", "rel_rms", "rms", "max_abs", "rel_max",
                           "well_posed", "representable", "limb_sensitive", "mfrag_per_s", "speedup", "pareto_front",
                           "numeric_rel_rms", "de2000_mean", "de2000_p99", "de2000_max", "plot_error",
                           "plot_numeric_rel_rms"});
@@ -242,7 +243,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         t.write(csv);
         out.files.push_back(csv);
         std::ostringstream s;
-        s << moon::gnuplot_preamble(png, 1800, 820, 11);
+        s << plot::gnuplot_preamble(png, 1800, 820, 11);
         s << "set multiplot layout 1,2 title \"" << "Every catalogue model fitted to " << out.target << " on the "
           << out.domain << " (" << problem.full().size() << " samples)\\nspeed: shading kernel on " << out.device
           << "\" noenhanced font 'sans,13'\n";
@@ -250,7 +251,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
                                             " Mfrag/s; < 1e-9 drawn at 1e-9)", key);
         s << panel(csv, out.rows, false, "numeric error of each fitted model (float kernel vs its double reference)", key);
         s << "unset multiplot\n";
-        moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
+        plot::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
         out.files.push_back(png);
     }
     out.seconds = std::chrono::duration<double>(clock::now() - t0).count();

@@ -14,7 +14,8 @@
 #include "fit/all.hpp"
 #include "fit/fit.hpp"
 #include "fit/report.hpp"
-#include "moon/plot.hpp"
+#include "core/csv.hpp"
+#include "plot/gnuplot.hpp"
 #include "reference/reference.hpp"
 
 namespace fs = std::filesystem;
@@ -134,7 +135,7 @@ public:
         for (auto& c : fm.children) c.albedo = glm::dvec3(1.0);
         fm = resolve_material(fm, "atlas");
         const std::string csv_plane = csv_path(name + "_plane"), csv_sphere = csv_path(name + "_sphere");
-        moon::CsvTable plane({"theta_i", "theta_r", "target", "fit", "residual"});
+        CsvTable plane({"theta_i", "theta_r", "target", "fit", "residual"});
         const glm::dvec3 N(0, 0, 1);
         std::vector<double> pt, pf;
         double tmax = 0.0;
@@ -157,7 +158,7 @@ public:
             }
         plane.write(csv_plane);
         wrote(csv_plane);
-        moon::CsvTable sphere({"x", "y", "target", "fit", "residual"});
+        CsvTable sphere({"x", "y", "target", "fit", "residual"});
         const glm::dvec3 V(0, 0, 1), L = glm::normalize(glm::dvec3(std::sin(60 * kPi / 180), 0.0, std::cos(60 * kPi / 180)));
         const int S = 61;
         std::vector<std::array<double, 4>> cells;
@@ -177,7 +178,7 @@ public:
         wrote(csv_sphere);
         const std::string png = png_path(name);
         std::ostringstream s;
-        s << moon::gnuplot_preamble(png, 1500, 560, 11)
+        s << plot::gnuplot_preamble(png, 1500, 560, 11)
           << "set multiplot layout 1,2 title \"" << r.model << " (" << fit_params(r) << ") fitted to "
           << describe_target(r) << ": residual (fit - target) / max target\" noenhanced font 'sans,13'\n"
           << "set palette defined (-1 '#2040c0', 0 '#ffffff', 1 '#c02020')\n";
@@ -189,15 +190,15 @@ public:
         sm = std::max(sm, 1e-12);
         s << "set title 'incidence plane: L at theta_i; V at theta_r, > 0 across the normal (dphi = 180 deg), < 0 on the light''s side (dphi = 0)' noenhanced\n"
           << "set xlabel 'theta_r (deg)' noenhanced\nset ylabel 'theta_i (deg)' noenhanced\n"
-          << "set xrange [-90:90]\nset yrange [0:90]\nset cbrange [" << moon::gp_number(-pm) << ":" << moon::gp_number(pm) << "]\n"
-          << "plot " << moon::gp_string(csv_plane) << " using 'theta_r':'theta_i':'residual' with image notitle\n";
+          << "set xrange [-90:90]\nset yrange [0:90]\nset cbrange [" << plot::gp_number(-pm) << ":" << plot::gp_number(pm) << "]\n"
+          << "plot " << plot::gp_string(csv_plane) << " using 'theta_r':'theta_i':'residual' with image notitle\n";
         s << "set title 'lit sphere seen along +z, light at 60 deg phase (to the right)'\n"
           << "set xlabel 'x'\nset ylabel 'y'\nset size ratio -1\nset xrange [-1:1]\nset yrange [-1:1]\n"
-          << "set cbrange [" << moon::gp_number(-sm) << ":" << moon::gp_number(sm) << "]\n"
-          << "plot " << moon::gp_string(csv_sphere) << " using 'x':'y':(" << 1.0 / S << "):(" << 1.0 / S
+          << "set cbrange [" << plot::gp_number(-sm) << ":" << plot::gp_number(sm) << "]\n"
+          << "plot " << plot::gp_string(csv_sphere) << " using 'x':'y':(" << 1.0 / S << "):(" << 1.0 / S
           << "):'residual' with boxxy fs solid 1.0 noborder lc palette notitle\n"
           << "unset multiplot\n";
-        moon::run_gnuplot(s.str(), png, "the CSVs " + csv_plane + " and " + csv_sphere + " were written");
+        plot::run_gnuplot(s.str(), png, "the CSVs " + csv_plane + " and " + csv_sphere + " were written");
         wrote(png);
     }
 
@@ -227,7 +228,7 @@ private:
 std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::ostream& log) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
-    moon::find_gnuplot();
+    plot::find_gnuplot();
     Atlas A(rt, o, log);
     log << "atlas: timing every model\n";
     A.measure_speeds();
@@ -339,7 +340,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
         const std::vector<std::pair<std::string, std::string>> forms = {
             {"minnaert_1941", "k"}, {"minnaert_unity", "k"}, {"minnaert_blender", "darkness"},
             {"minnaert_normalized", "k"}, {"minnaert_b", "k"}};
-        moon::CsvTable t({"sigma", "model", "parameter", "value", "albedo", "rel_rms", "lambert_rel_rms", "speedup", "flags"});
+        CsvTable t({"sigma", "model", "parameter", "value", "albedo", "rel_rms", "lambert_rel_rms", "speedup", "flags"});
         md << "## Minnaert against Oren-Nayar (seeds 000-002: \"Minnaert looks like Oren-Nayar, cheaper\")\n\n"
            << "Each Minnaert form fitted to the paper's qualitative Oren-Nayar (`oren_nayar`) at sigma in [0, 1.2]; "
               "Lambert's own best fit for comparison. Table: best parameter / rel-rms.\n\n"
@@ -377,7 +378,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
     // ---- 2. Blinn-Phong against Phong ---------------------------------------------------------------------------
     {
         log << "atlas: Blinn-Phong against Phong\n";
-        moon::CsvTable t({"phong_n", "slice", "blinn_n", "ratio", "ks", "albedo", "rel_rms", "flags"});
+        CsvTable t({"phong_n", "slice", "blinn_n", "ratio", "ks", "albedo", "rel_rms", "flags"});
         md << "## Blinn-Phong against Phong: the exponent relation (the common \"n_Blinn = 4 n_Phong\" rule)\n\n"
            << "`blinn_phong` (n, ks and the albedo free) fitted to `phong` (ks = 1) over the whole hemisphere and over the "
               "view-on-normal slice (V = N, L over the hemisphere, `--at-normal`), where the rule is usually derived.\n\n"
@@ -407,7 +408,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
     // ---- 3. Blinn-Phong / Phong against Beckmann and GGX Cook-Torrance -------------------------------------------
     {
         log << "atlas: Phong lobes against Cook-Torrance\n";
-        moon::CsvTable t({"target", "m", "model", "slice", "n", "ks", "albedo", "rel_rms", "walter_n", "flags"});
+        CsvTable t({"target", "m", "model", "slice", "n", "ks", "albedo", "rel_rms", "walter_n", "flags"});
         md << "## Blinn-Phong and Phong against Beckmann and GGX Cook-Torrance (n against m, alpha)\n\n"
            << "Targets: `cook_torrance` (Beckmann) and `cook_torrance_ggx` at kd = 1, ks = 1, f0 = 0.04 and roughness m. "
               "Fitted: `blinn_phong` and `phong` (n, ks, albedo free). Walter et al. (2007) give n = 2 / m^2 - 2 for the "
@@ -443,7 +444,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
     // ---- 4. Half-Lambert and wrap against Lambert -------------------------------------------------------------------
     {
         log << "atlas: wrap forms against Lambert\n";
-        moon::CsvTable t({"model", "params", "albedo", "rel_rms", "speedup", "flags"});
+        CsvTable t({"model", "params", "albedo", "rel_rms", "speedup", "flags"});
         md << "## Half-Lambert and wrap against Lambert\n\n| model | best parameters | rel-rms | speed-up over lambert | flags |\n| --- | --- | --- | --- | --- |\n";
         const Material tgt = target_of("lambert", {});
         for (const char* m : {"half_lambert", "half_lambert_seed001", "wrap", "wrap_seed001", "wrap_energy"}) {
@@ -466,7 +467,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
     // ---- 5. The Minnaert parameterisations against each other -----------------------------------------------------
     {
         log << "atlas: Minnaert parameterisations\n";
-        moon::CsvTable t({"target", "target_value", "model", "value", "expected", "abs_difference", "albedo", "rel_rms", "domain"});
+        CsvTable t({"target", "target_value", "model", "value", "expected", "abs_difference", "albedo", "rel_rms", "domain"});
         md << "## The Blender, Unity and 1941 Minnaert parameterisations against each other\n\n"
            << "Exact maps: unity k = k_1941 - 1 (where the saturate does not clip: k_unity >= 0); Blender's darkness d <= 1 "
               "is k_1941 = d where its clamp max(NoV NoL, 0.1) is inactive (NoL, NoV >= sqrt(0.1), `--min-cos 0.3163`); "
@@ -518,7 +519,7 @@ std::vector<std::string> write_atlas(Runtime& rt, const AtlasOptions& o, std::os
         const std::vector<std::string> variants = {"oren_nayar", "oren_nayar_st", "oren_nayar_seed001", "oren_nayar_seed003",
                                                    "oren_nayar_seed004", "oren_nayar_blender", "oren_nayar_fujii",
                                                    "oren_nayar_fujii_full", "eon", "eon_approx", "lambert"};
-        moon::CsvTable t({"sigma", "model", "params", "albedo", "rel_rms", "speedup", "flags"});
+        CsvTable t({"sigma", "model", "params", "albedo", "rel_rms", "speedup", "flags"});
         md << "## Oren-Nayar variants against the paper's full model\n\n"
            << "Target: `oren_nayar_full` (C1, C2, C3 and the interreflection term) at albedo 0.8. Each variant's own "
               "roughness fitted (the seeds' forms, Fujii, EON), with its rel-rms; speed-up over oren_nayar_full in the last row.\n\n"

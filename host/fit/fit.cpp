@@ -9,6 +9,8 @@
 
 #include "color/color.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
+#include "core/lm.hpp"
 #include "reference/reference.hpp"
 
 namespace shadelab::fit {
@@ -129,38 +131,6 @@ double sum_sq(const double* t, std::size_t n) {
     return s;
 }
 
-// Solves A x = b (k x k, symmetric positive semi-definite) by Gaussian elimination with partial pivoting.
-// Returns false when a pivot is below tiny * max |diagonal| (singular to working precision).
-bool solve(std::vector<double> A, std::vector<double> b, std::size_t k, std::vector<double>& x, double tiny = 1e-14) {
-    double scale = 0.0;
-    for (std::size_t i = 0; i < k; ++i) scale = std::max(scale, std::abs(A[i * k + i]));
-    if (!(scale > 0.0)) return false;
-    for (std::size_t c = 0; c < k; ++c) {
-        std::size_t p = c;
-        for (std::size_t r = c + 1; r < k; ++r)
-            if (std::abs(A[r * k + c]) > std::abs(A[p * k + c])) p = r;
-        if (!(std::abs(A[p * k + c]) > tiny * scale)) return false;
-        if (p != c) {
-            for (std::size_t j = 0; j < k; ++j) std::swap(A[c * k + j], A[p * k + j]);
-            std::swap(b[c], b[p]);
-        }
-        for (std::size_t r = c + 1; r < k; ++r) {
-            const double m = A[r * k + c] / A[c * k + c];
-            for (std::size_t j = c; j < k; ++j) A[r * k + j] -= m * A[c * k + j];
-            b[r] -= m * b[c];
-        }
-    }
-    x.assign(k, 0.0);
-    for (std::size_t c = k; c-- > 0;) {
-        double s = b[c];
-        for (std::size_t j = c + 1; j < k; ++j) s -= A[c * k + j] * x[j];
-        x[c] = s / A[c * k + c];
-    }
-    for (double v : x)
-        if (!std::isfinite(v)) return false;
-    return true;
-}
-
 // The state of a fit in mapped coordinates.
 struct Point {
     std::vector<double> x;   // every parameter, declared order, model units
@@ -179,8 +149,68 @@ std::vector<double> with_u(const Space& sp, std::vector<double> x, std::size_t j
     return x;
 }
 
-// Bounded Levenberg-Marquardt over the free continuous parameters (mapped to [0, 1]) and the scale, the scale
-// re-solved in closed form at every point. `h`: finite-difference step in mapped units; `trials`: damping
+// The Jacobian columns d(a f)/du_j at p by central (or forward) differences in mapped units, one-sided at a bound
+// (never outside the box), and the scale's column f; then J^T J and the descent direction -J^T r, r = a f - t.
+void fit_normal(const ValuesFn& F, const double* t, std::size_t n, const Space& sp, const Point& p,
+                const std::vector<double>& f0, double h, bool central, lm::Normal& ne) {
+    const std::size_t k = sp.free_c.size(), K = k + 1;
+    std::vector<std::vector<double>> sets;
+    std::vector<double> du(k), u(k);
+    std::vector<bool> down_is_centre(k, false);
+    for (std::size_t c = 0; c < k; ++c) {
+        const std::size_t j = sp.free_c[c];
+        u[c] = sp.axes[j].u(p.x[j]);
+        double up = std::min(1.0, u[c] + h), dn = std::max(0.0, u[c] - h);
+        if (!central) {
+            if (u[c] + h <= 1.0) dn = u[c];   // forward
+            else up = u[c];                    // backward at the upper bound
+        }
+        down_is_centre[c] = !central && dn == u[c];
+        const bool up_is_centre = !central && up == u[c];
+        if (!up_is_centre) sets.push_back(with_u(sp, p.x, j, up));
+        if (!down_is_centre[c]) sets.push_back(with_u(sp, p.x, j, dn));
+        du[c] = up - dn;
+    }
+    const auto fv = F(sets);
+    std::vector<std::vector<double>> J(K, std::vector<double>(n));
+    for (std::size_t c = 0, q = 0; c < k; ++c) {
+        const std::vector<double>* hi_v = &f0;
+        const std::vector<double>* lo_v = &f0;
+        if (central) {
+            hi_v = &fv[q++];
+            lo_v = &fv[q++];
+        } else if (down_is_centre[c]) {
+            hi_v = &fv[q++];
+        } else {
+            lo_v = &fv[q++];
+        }
+        for (std::size_t i = 0; i < n; ++i) J[c][i] = du[c] > 0.0 ? p.a * ((*hi_v)[i] - (*lo_v)[i]) / du[c] : 0.0;
+    }
+    J[k] = f0;
+    ne.A.assign(K * K, 0.0);
+    ne.g.assign(K, 0.0);
+    for (std::size_t r1 = 0; r1 < K; ++r1) {
+        for (std::size_t r2 = r1; r2 < K; ++r2) {
+            double s = 0.0;
+            for (std::size_t i = 0; i < n; ++i) s += J[r1][i] * J[r2][i];
+            ne.A[r1 * K + r2] = ne.A[r2 * K + r1] = s;
+        }
+        double s = 0.0;
+        for (std::size_t i = 0; i < n; ++i) s += J[r1][i] * (p.a * f0[i] - t[i]);
+        ne.g[r1] = -s;
+    }
+    ne.x = u;
+    ne.x.push_back(p.a);
+    ne.lo.assign(K, 0.0);
+    ne.hi.assign(K, 1.0);
+    ne.bounded.assign(K, true);
+    ne.lo[k] = -std::numeric_limits<double>::infinity();   // the scale: solved along, re-solved in closed form
+    ne.hi[k] = std::numeric_limits<double>::infinity();
+    ne.bounded[k] = false;
+}
+
+// Bounded Levenberg-Marquardt (core/lm.hpp) over the free continuous parameters (mapped to [0, 1]) and the scale,
+// the scale re-solved in closed form at every point. `h`: finite-difference step in mapped units; `trials`: damping
 // values tried per iteration in one batch.
 Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, const Space& sp, Point p, double h,
                           int iterations, int trials, double tt, bool central) {
@@ -192,141 +222,62 @@ Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, con
         p.a = s.a;
         p.ssr = s.ssr;
     }
-    double lambda = 1e-3;
-    for (int it = 0; it < iterations; ++it) {
-        // Jacobian columns d(a f)/du_j by central (or forward) differences, one-sided at a bound (never
-        // outside the box).
-        std::vector<std::vector<double>> sets;
-        std::vector<double> du(k);
-        std::vector<double> u(k);
-        std::vector<bool> down_is_centre(k, false);
-        for (std::size_t c = 0; c < k; ++c) {
-            const std::size_t j = sp.free_c[c];
-            u[c] = sp.axes[j].u(p.x[j]);
-            double up = std::min(1.0, u[c] + h), dn = std::max(0.0, u[c] - h);
-            if (!central) {
-                if (u[c] + h <= 1.0) dn = u[c];   // forward
-                else up = u[c];                    // backward at the upper bound
-            }
-            down_is_centre[c] = !central && dn == u[c];
-            const bool up_is_centre = !central && up == u[c];
-            if (!up_is_centre) sets.push_back(with_u(sp, p.x, j, up));
-            if (!down_is_centre[c]) sets.push_back(with_u(sp, p.x, j, dn));
-            du[c] = up - dn;
-        }
-        const auto fv = F(sets);
-        // Columns: k parameters and the scale; residual r = a f0 - t.
-        const std::size_t K = k + 1;
-        std::vector<double> JtJ(K * K, 0.0), Jtr(K, 0.0);
-        std::vector<std::vector<double>> J(K, std::vector<double>(n));
-        for (std::size_t c = 0, q = 0; c < k; ++c) {
-            const std::vector<double>* hi_v = &f0;
-            const std::vector<double>* lo_v = &f0;
-            if (central) {
-                hi_v = &fv[q++];
-                lo_v = &fv[q++];
-            } else if (down_is_centre[c]) {
-                hi_v = &fv[q++];
-            } else {
-                lo_v = &fv[q++];
-            }
-            for (std::size_t i = 0; i < n; ++i) J[c][i] = du[c] > 0.0 ? p.a * ((*hi_v)[i] - (*lo_v)[i]) / du[c] : 0.0;
-        }
-        J[k] = f0;
-        for (std::size_t r1 = 0; r1 < K; ++r1) {
-            for (std::size_t r2 = r1; r2 < K; ++r2) {
-                double s = 0.0;
-                for (std::size_t i = 0; i < n; ++i) s += J[r1][i] * J[r2][i];
-                JtJ[r1 * K + r2] = JtJ[r2 * K + r1] = s;
-            }
-            double s = 0.0;
-            for (std::size_t i = 0; i < n; ++i) s += J[r1][i] * (p.a * f0[i] - t[i]);
-            Jtr[r1] = s;
-        }
-        // Active bounds: a parameter at a bound whose gradient points out of the box is held this step.
-        std::vector<bool> held(K, false);
+    lm::Settings ls;
+    ls.trials = [trials](double lambda) {
+        std::vector<double> lams;
+        for (int q = 0; q < trials; ++q) lams.push_back(lambda * std::pow(10.0, q - (trials - 1) / 2));
+        return lams;
+    };
+    ls.accept_divisor = 3.0;
+    ls.lambda_floor = 1e-12;
+    ls.reject_factor = std::pow(10.0, trials + 1);
+    ls.ridge = 1e-15;
+    ls.min_diagonal = 1e-24;
+    ls.solve_tiny = 1e-16;
+    ls.attempts = 8;
+    ls.min_step = 1e-12;
+    ls.max_iterations = iterations;
+
+    std::vector<double> u(k);
+    std::vector<std::vector<double>> cand, evaluated, values;   // proposed; the last batch and its values
+    std::vector<Scaled> scaled;
+    lm::Callbacks cb;
+    cb.normal = [&](lm::Normal& ne) {
+        fit_normal(F, t, n, sp, p, f0, h, central, ne);
+        u.assign(ne.x.begin(), ne.x.begin() + std::ptrdiff_t(k));
+    };
+    cb.propose = [&](const std::vector<double>& y) {
+        std::vector<double> xn = p.x;
         for (std::size_t c = 0; c < k; ++c)
-            if ((u[c] <= 0.0 && Jtr[c] > 0.0) || (u[c] >= 1.0 && Jtr[c] < 0.0)) held[c] = true;
-        // A column that is zero (no effect) is held too: it has no direction to move in.
-        double maxd = 0.0;
-        for (std::size_t c = 0; c < K; ++c) maxd = std::max(maxd, JtJ[c * K + c]);
-        for (std::size_t c = 0; c < k; ++c)
-            if (!(JtJ[c * K + c] > 1e-24 * maxd)) held[c] = true;
-        std::vector<std::size_t> act;
-        for (std::size_t c = 0; c < K; ++c)
-            if (!held[c]) act.push_back(c);
-        bool any_param = false;
-        for (std::size_t c : act) any_param = any_param || c < k;
-        if (!any_param) break;
-        auto step_for = [&](double lam, std::vector<double>& x_new) {
-            const std::size_t m = act.size();
-            std::vector<double> A(m * m), b(m), d;
-            for (std::size_t r1 = 0; r1 < m; ++r1) {
-                for (std::size_t r2 = 0; r2 < m; ++r2) A[r1 * m + r2] = JtJ[act[r1] * K + act[r2]];
-                A[r1 * m + r1] += lam * JtJ[act[r1] * K + act[r1]] + 1e-15 * maxd;
-                b[r1] = -Jtr[act[r1]];
-            }
-            if (!solve(A, b, m, d, 1e-16)) return false;
-            x_new = p.x;
-            for (std::size_t r = 0; r < m; ++r)
-                if (act[r] < k) {
-                    const std::size_t j = sp.free_c[act[r]];
-                    x_new[j] = sp.axes[j].x(std::clamp(u[act[r]] + d[r], 0.0, 1.0));
-                }
-            return true;
-        };
-        bool accepted = false;
-        double step_size = 0.0;
-        for (int attempt = 0; attempt < 8 && !accepted; ++attempt) {
-            std::vector<double> lams;
-            for (int q = 0; q < trials; ++q) lams.push_back(lambda * std::pow(10.0, q - (trials - 1) / 2));
-            std::vector<std::vector<double>> cand;
-            std::vector<double> cand_lam;
-            for (double lam : lams) {
-                std::vector<double> xn;
-                if (step_for(lam, xn) && xn != p.x) {
-                    cand.push_back(xn);
-                    cand_lam.push_back(lam);
-                }
-            }
-            if (cand.empty()) break;
-            const auto cv = F(cand);
-            std::size_t best = 0;
-            Scaled bs{0.0, std::numeric_limits<double>::infinity()};
-            for (std::size_t q = 0; q < cand.size(); ++q) {
-                const Scaled s = best_scale(cv[q], t, n);
-                if (s.ssr < bs.ssr) bs = s, best = q;
-            }
-            if (bs.ssr < p.ssr) {
-                const double gain = p.ssr - bs.ssr;
-                step_size = 0.0;
-                for (std::size_t c = 0; c < k; ++c) {
-                    const std::size_t j = sp.free_c[c];
-                    step_size = std::max(step_size, std::abs(sp.axes[j].u(cand[best][j]) - u[c]));
-                }
-                p.x = cand[best];
-                p.a = bs.a;
-                p.ssr = bs.ssr;
-                f0 = cv[best];
-                lambda = std::max(1e-12, cand_lam[best] / 3.0);
-                accepted = true;
-                if (gain <= 1e-13 * p.ssr + 1e-30 * tt) return p;
-            } else {
-                lambda *= std::pow(10.0, trials + 1);
-                if (lambda > 1e12) break;
-            }
+            if (y[c] != u[c]) xn[sp.free_c[c]] = sp.axes[sp.free_c[c]].x(y[c]);
+        if (xn == p.x) return false;
+        cand.push_back(std::move(xn));
+        return true;
+    };
+    cb.evaluate = [&] {
+        evaluated = std::move(cand);
+        cand.clear();
+        values = F(evaluated);
+        scaled.clear();
+        std::vector<double> costs;
+        for (const auto& v : values) {
+            scaled.push_back(best_scale(v, t, n));
+            costs.push_back(std::isnan(scaled.back().ssr) ? std::numeric_limits<double>::infinity() : scaled.back().ssr);
         }
-        if (!accepted || step_size < 1e-12) break;
-    }
+        return costs;
+    };
+    cb.accept = [&](std::size_t i) {
+        p.x = evaluated[i];
+        p.a = scaled[i].a;
+        p.ssr = scaled[i].ssr;
+        f0 = values[i];
+        return p.ssr;
+    };
+    cb.converged = [&](double before, double after) { return before - after <= 1e-13 * after + 1e-30 * tt; };
+    lm::minimise(ls, cb, p.ssr);
     return p;
 }
 
-std::string num(double x, int digits = 6) {
-    std::ostringstream s;
-    s.precision(digits);
-    s << x;
-    return s.str();
-}
 
 std::string pct(double x) {
     std::ostringstream s;
@@ -806,7 +757,7 @@ Sensitivity sensitivity(const Optimum& z, FitResult& r) {
     for (std::size_t c = 0; c < m && cov_ok; ++c) {
         std::vector<double> e(m, 0.0), col;
         e[c] = 1.0;
-        cov_ok = solve(A, e, m, col, 1e-13);
+        cov_ok = lm::solve(A, e, m, col, 1e-13);
         for (std::size_t q = 0; q < m && cov_ok; ++q) cov[q * m + c] = col[q];
     }
     const double dof = double(n) > double(m) ? double(n) - double(m) : 1.0;

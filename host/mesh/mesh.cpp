@@ -25,6 +25,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "mesh/mesh_check.hpp"
 
 namespace fs = std::filesystem;
@@ -43,11 +44,6 @@ constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
 
 glm::dvec3 to_glm(const OpenMesh::Vec3d& v) { return {v[0], v[1], v[2]}; }
 
-std::string lower_ext(const std::string& path) {
-    std::string e = fs::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e;
-}
 
 bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 

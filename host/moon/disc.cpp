@@ -6,19 +6,15 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "mesh/mesh.hpp"
+#include "pipeline/pipeline.hpp"
 #include "raster/raster.hpp"
 #include "shade/shader.hpp"
 
 namespace shadelab::moon {
 
 namespace {
-std::string num(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-}
-
 // A standard normal deviate from two uniform doubles (Box-Muller): the same numbers on every platform for a
 // given seed, which std::normal_distribution does not promise.
 double gaussian(std::mt19937_64& g) {
@@ -81,14 +77,17 @@ FragmentBuffer analytic_disc_fragments(int width, int height, const Disc& d) {
     return fb;
 }
 
-FragmentBuffer mesh_disc_fragments(int width, int height, const Disc& d, int level, std::size_t* triangles) {
-    if (level < 0 || level > 8) throw Error("icosphere level " + std::to_string(level) + " must be in [0, 8]");
-    const Mesh sphere = make_icosphere(level);
-    if (triangles) *triangles = sphere.triangles.size();
+namespace {
+// The job a disc is: one sphere (the icosphere, or no mesh for the analytic normals), the sun, an orthographic
+// view from the observer.
+pipeline::Job disc_job(int width, int height, const Disc& d) {
+    pipeline::Job job;
+    job.width = width;
+    job.height = height;
     // The camera looks along -z at the point of the z = 0 plane that must appear at the image centre, so the
     // sphere's centre lands on (cx, cy). Pixels per world unit on that plane: R (the disc radius in pixels).
     const double D = kDistantEye;
-    Camera cam;
+    Camera& cam = job.camera;
     const double tx = (0.5 * width - d.cx) / d.radius, ty = (d.cy - 0.5 * height) / d.radius;
     cam.target = {tx, ty, 0.0};
     cam.eye = {tx, ty, D};
@@ -96,11 +95,18 @@ FragmentBuffer mesh_disc_fragments(int width, int height, const Disc& d, int lev
     cam.fov_y_deg = 2.0 * std::atan(0.5 * height / (d.radius * D)) / kDeg;
     cam.z_near = D - 2.0;
     cam.z_far = D + 2.0;
-    RasterOptions ro;
-    ro.width = width;
-    ro.height = height;
-    ro.cull_backfaces = false;
-    return rasterize(sphere, cam, ro);
+    job.meshes.emplace_back();
+    return job;
+}
+}  // namespace
+
+FragmentBuffer mesh_disc_fragments(int width, int height, const Disc& d, int level, std::size_t* triangles) {
+    if (level < 0 || level > 8) throw Error("icosphere level " + std::to_string(level) + " must be in [0, 8]");
+    pipeline::Job job = disc_job(width, height, d);
+    job.meshes.front().mesh = make_icosphere(level);
+    if (triangles) *triangles = job.meshes.front().mesh.triangles.size();
+    pipeline::StageTimes times;
+    return pipeline::raster(job, times).fb;
 }
 
 namespace {
@@ -208,20 +214,25 @@ Image render_disc(Runtime& rt, const DiscRenderOptions& o, DiscRenderReport* rep
         if (fb.empty()) throw Error("the limb mask mu >= " + num(o.limb_mask_mu) + " leaves no pixel of the disc");
     }
 
+    pipeline::Job job = disc_job(o.width, o.height, d);
+    job.meshes.front().material = o.material;
+    job.lights = {Light{Light::Type::Directional, o.sun.L, {1.0, 1.0, 1.0}, 1.0, 0.0}};
+    job.ambient = glm::dvec3(0.0);
+    job.view_direction = o.sun.V;   // orthographic: the same direction to the viewer everywhere
+    job.background = o.background;
+    pipeline::Frame frame;
+    frame.fb = std::move(fb);
+    frame.mesh_of.assign(frame.fb.size(), 0);
     Shader shader(rt);
-    ShadeSetup setup;
-    setup.material = o.material;
-    setup.lights = {Light{Light::Type::Directional, o.sun.L, {1.0, 1.0, 1.0}, 1.0, 0.0}};
-    setup.ambient = glm::dvec3(0.0);
-    setup.view = glm::dvec4(o.sun.V, 0.0);   // orthographic: the same direction to the viewer everywhere
-    ShadeTiming st;
-    std::vector<float> rgb = shader.shade(fb, setup, &st);
-    rep.build_ms = st.build_ms;
-    rep.kernel_ms = st.kernel_ms;
+    pipeline::StageTimes times;
+    std::vector<float> rgb = pipeline::shade(shader, job, frame, times);
+    rep.build_ms = times.build_ms;
+    rep.kernel_ms = times.kernel_ms;
 
     finish(o, mu, rgb, rep, "the kernel of model '" + o.material.model + "'");
     if (report) *report = rep;
-    Image img = compose_image(fb, rgb, o.background);
+    Image img = pipeline::compose(job, frame, rgb, times);
+    fb = std::move(frame.fb);
     if (fragments_out) *fragments_out = std::move(fb);
     return img;
 }

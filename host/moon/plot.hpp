@@ -1,6 +1,4 @@
-// Charts for the moon tools: CSV tables and PNG plots drawn by gnuplot (Debian package gnuplot-nox), run as a
-// child process with the pngcairo terminal. Tables are always written first, so a missing gnuplot costs only
-// the picture: the error names the package and the table that was written.
+// The moon tools' charts: PNG plots drawn by gnuplot (host/plot/) from the CSV tables the commands write first.
 #pragma once
 #include <string>
 #include <vector>
@@ -9,42 +7,6 @@
 #include "moon/photometry.hpp"
 
 namespace shadelab::moon {
-
-// --- CSV: a header line, then rows of numbers (or short words). Never writes NaN/Inf: a non-finite number
-// is an internal error (callers write an empty field for "no value" with CsvRow::blank()).
-class CsvTable {
-public:
-    explicit CsvTable(std::vector<std::string> columns) : columns_(std::move(columns)) {}
-    CsvTable& row();                          // starts a new row
-    CsvTable& add(double v, int digits = 9);  // throws on NaN/Inf
-    CsvTable& add(const std::string& word);
-    CsvTable& blank();
-    void write(const std::string& path) const;   // atomic; creates the folder
-    std::size_t rows() const { return rows_.size(); }
-
-private:
-    std::vector<std::string> columns_;
-    std::vector<std::vector<std::string>> rows_;
-};
-
-// The gnuplot executable: $SHADELAB_GNUPLOT if set, else "gnuplot" on PATH. Throws shadelab::Error
-// "gnuplot not found ...: install the Debian package gnuplot-nox" when there is none.
-std::string find_gnuplot();
-
-// Runs gnuplot on `script` (fed on its standard input) and checks that `png` was produced. Throws one line
-// with gnuplot's first error message otherwise. `what_was_written` is added to the errors
-// ("the CSV out/a.csv was written").
-void run_gnuplot(const std::string& script, const std::string& png, const std::string& what_was_written);
-
-// gnuplot string literal for a file name or a title.
-std::string gp_string(const std::string& s);
-
-// A number for a gnuplot script, with `digits` significant digits.
-std::string gp_number(double x, int digits = 6);
-
-// The preamble every chart shares: pngcairo of width x height with a sans font of `font_size` points, the
-// output file, CSV read with its header line as column names, a light grid.
-std::string gnuplot_preamble(const std::string& png, int width, int height, int font_size = 10);
 
 // --- The charts. Each takes the CSV it draws from (already written) and the PNG to make.
 

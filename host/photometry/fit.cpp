@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/lm.hpp"
 #include "models/catalogue.hpp"
 #include "shade/shader.hpp"
 
@@ -102,33 +103,6 @@ private:
 };
 
 // ---- small dense linear algebra (k <= a few tens) --------------------------------------------------------
-
-// Solves A x = b (n x n, row-major) by Gaussian elimination with partial pivoting; false when singular.
-bool solve(std::vector<double> A, std::vector<double> b, std::vector<double>& x) {
-    const std::size_t n = b.size();
-    for (std::size_t c = 0; c < n; ++c) {
-        std::size_t p = c;
-        for (std::size_t r = c + 1; r < n; ++r)
-            if (std::abs(A[r * n + c]) > std::abs(A[p * n + c])) p = r;
-        if (!(std::abs(A[p * n + c]) > 0.0)) return false;
-        if (p != c) {
-            for (std::size_t j = 0; j < n; ++j) std::swap(A[c * n + j], A[p * n + j]);
-            std::swap(b[c], b[p]);
-        }
-        for (std::size_t r = c + 1; r < n; ++r) {
-            const double f = A[r * n + c] / A[c * n + c];
-            for (std::size_t j = c; j < n; ++j) A[r * n + j] -= f * A[c * n + j];
-            b[r] -= f * b[c];
-        }
-    }
-    x.assign(n, 0.0);
-    for (std::size_t r = n; r-- > 0;) {
-        double s = b[r];
-        for (std::size_t j = r + 1; j < n; ++j) s -= A[r * n + j] * x[j];
-        x[r] = s / A[r * n + r];
-    }
-    return true;
-}
 
 // Eigen-decomposition of a symmetric matrix by cyclic Jacobi rotations (Golub & Van Loan 8.5): A = V diag(w) V^T,
 // the eigenvectors in V's columns.
@@ -409,7 +383,6 @@ FitResult fit_law(Runtime& rt, const FitData& data, const FitSpec& spec, const F
         x.push_back(std::clamp(P.fixed[P.shape[j]], P.lo.back(), P.hi.back()));
         P.fixed.erase(P.shape[j]);
     }
-    const std::size_t ns = P.shape.size();
     Material base;
     base.model = P.model;
     base.albedo = glm::dvec3(1.0);
@@ -439,65 +412,51 @@ FitResult fit_law(Runtime& rt, const FitData& data, const FitSpec& spec, const F
     r.samples = data.value.size();
     std::vector<double> xp, xm, A, g;
     auto values = ev.run(jacobian_sets(P, x, xp, xm));
-    double rss = rss_of(P, x, values[0]);
-    double lambda = 1e-3;
-    for (r.iterations = 0; r.iterations < o.max_iterations; ++r.iterations) {
-        normal_equations(P, x, values, xp, xm, A, g);
-        // active set: a parameter on a bound whose descent direction leaves the box is held this step
-        std::vector<std::size_t> act;
-        for (std::size_t j = 0; j < k; ++j) {
-            const bool out = (x[j] <= P.lo[j] && g[j] <= 0.0) || (x[j] >= P.hi[j] && g[j] >= 0.0);
-            if (!out && A[j * k + j] > 0.0) act.push_back(j);
-        }
-        if (act.empty() || rss == 0.0) {
-            r.converged = true;
-            break;
-        }
-        // four damped steps evaluated in one launch: lambda / 10, lambda, 10 lambda, 100 lambda
-        const double trial_lambda[] = {lambda / 10.0, lambda, lambda * 10.0, lambda * 100.0};
-        std::vector<std::vector<double>> trials;
-        for (double lam : trial_lambda) {
-            const std::size_t m = act.size();
-            std::vector<double> Am(m * m), gm(m), dx;
-            for (std::size_t a = 0; a < m; ++a) {
-                gm[a] = g[act[a]];
-                for (std::size_t b = 0; b < m; ++b) Am[a * m + b] = A[act[a] * k + act[b]];
-                Am[a * m + a] *= 1.0 + lam;
-            }
-            std::vector<double> y = x;
-            if (solve(Am, gm, dx))
-                for (std::size_t a = 0; a < m; ++a) y[act[a]] = std::clamp(x[act[a]] + dx[a], P.lo[act[a]], P.hi[act[a]]);
-            trials.push_back(y);
-        }
+    // Bounded Levenberg-Marquardt (core/lm.hpp): four damped steps evaluated in one launch (lambda / 10, lambda,
+    // 10 lambda, 100 lambda), Marquardt's damping A_ii (1 + lambda).
+    lm::Settings ls;
+    ls.trials = [](double lambda) { return std::vector<double>{lambda / 10.0, lambda, lambda * 10.0, lambda * 100.0}; };
+    ls.lambda_floor = 1e-9;
+    ls.reject_factor = 1e3;
+    ls.multiplicative = true;
+    ls.hold_at_zero_gradient = true;
+    ls.retry_next_iteration = true;
+    ls.stop_at_zero_cost = true;
+    ls.max_iterations = o.max_iterations;
+    std::vector<std::vector<double>> trials, tried;
+    std::vector<double> trss;
+    lm::Callbacks cb;
+    cb.normal = [&](lm::Normal& ne) {
+        normal_equations(P, x, values, xp, xm, ne.A, ne.g);
+        ne.x = x;
+        ne.lo = P.lo;
+        ne.hi = P.hi;
+        ne.bounded.assign(k, true);
+    };
+    cb.propose = [&](const std::vector<double>& y) {
+        trials.push_back(y);
+        return true;
+    };
+    cb.evaluate = [&] {
+        tried = std::move(trials);
+        trials.clear();
         std::vector<std::map<std::string, double>> sets;
-        for (const auto& y : trials) sets.push_back(shape_set(P, y));
+        for (const auto& y : tried) sets.push_back(shape_set(P, y));
         const auto tv = ev.run(sets);
-        std::size_t best = 0;
-        std::vector<double> trss(trials.size());
-        for (std::size_t t = 0; t < trials.size(); ++t) {
-            trss[t] = rss_of(P, trials[t], tv[t]);
-            if (trss[t] < trss[best]) best = t;
-        }
-        if (!(trss[best] < rss)) {
-            lambda *= 1e3;
-            if (lambda > 1e12) {   // no step lowers the RSS: at the minimum to the kernels' rounding
-                r.converged = true;
-                break;
-            }
-            continue;
-        }
-        const double drop = (rss - trss[best]) / rss;
-        x = trials[best];
-        rss = trss[best];
-        lambda = std::max(trial_lambda[best], 1e-9);
+        trss.assign(tried.size(), 0.0);
+        for (std::size_t t = 0; t < tried.size(); ++t) trss[t] = rss_of(P, tried[t], tv[t]);
+        return trss;
+    };
+    cb.accept = [&](std::size_t best) {
+        x = tried[best];
         values = ev.run(jacobian_sets(P, x, xp, xm));
-        rss = rss_of(P, x, values[0]);
-        if (drop < o.rtol) {
-            r.converged = true;
-            break;
-        }
-    }
-    (void)ns;
+        return rss_of(P, x, values[0]);
+    };
+    cb.converged = [&](double before, double after) { return (before - after) / before < o.rtol; };
+    const lm::Outcome lo = lm::minimise(ls, cb, rss_of(P, x, values[0]));
+    r.iterations = lo.iterations;
+    r.converged = lo.converged;
+    const double rss = lo.cost;
     normal_equations(P, x, values, xp, xm, A, g);
 
     for (std::size_t j = 0; j < k; ++j) {

@@ -1,4 +1,5 @@
 #include "plan/planner.hpp"
+#include "pipeline/pipeline.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -39,12 +40,16 @@ Frame raster_frame(const PlanInput& in, int w, int h, int level) {
             m = make_icosphere(level);
             m.transform(it.icosphere_transform);
         }
-        RasterOptions ro;
-        ro.width = w;
-        ro.height = h;
-        ro.cull_backfaces = it.cull_backfaces;
-        f.fragments.push_back(rasterize(m, in.camera, ro));
-        f.meshes.push_back(std::move(m));
+        // Each item rasterised on its own by the render path (host/pipeline/): the planner shades and times every
+        // item's fragments whole, then composes by depth as the render path's merge does.
+        pipeline::Job job;
+        job.meshes.push_back(pipeline::JobMesh{std::move(m), Material{}, it.cull_backfaces});
+        job.camera = in.camera;
+        job.width = w;
+        job.height = h;
+        pipeline::StageTimes times;
+        f.fragments.push_back(pipeline::raster(job, times).fb);
+        f.meshes.push_back(std::move(job.meshes.front().mesh));
     }
     return f;
 }

@@ -18,10 +18,14 @@
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.hpp"
+#include "core/csv.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
+#include "pipeline/pipeline.hpp"
+#include "plan/plan_job.hpp"
 #include "plan/planner.hpp"
 #include "raster/raster.hpp"
 #include "scene/scene.hpp"
@@ -38,14 +42,8 @@ double ms_since(clock_type::time_point t0) {
     return std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
 }
 
-std::string lower_ext(const fs::path& p) {
-    std::string e = p.extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return e;
-}
-
 bool is_mesh_file(const fs::path& p) {
-    const std::string e = lower_ext(p);
+    const std::string e = lower_ext(p.string());
     return e == ".obj" || e == ".off" || e == ".ply" || e == ".stl";
 }
 
@@ -93,14 +91,9 @@ private:
 struct Prepared {
     JobResult result;
     Scene scene;
-    FragmentBuffer fb;
-    std::vector<std::uint16_t> mesh_of;   // mesh index of each fragment
-    glm::dvec3 eye{0.0};
+    pipeline::Job job;                     // the scene as the render path takes it (planned when --tolerance)
+    pipeline::Frame frame;
     bool settled = false;                  // skipped or failed: nothing to shade
-    bool planned = false;                  // --tolerance: shade with the plan's choice
-    PlanConfig plan_config;
-    std::vector<Light> plan_lights;
-    std::vector<Material> plan_materials;  // per mesh
     std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
 };
 
@@ -122,37 +115,6 @@ bool up_to_date(const Scene& s) {
 }
 
 
-// Nearest fragment per pixel over all meshes (ties: the earlier mesh), in pixel order.
-void merge_by_depth(std::vector<FragmentBuffer>& parts, FragmentBuffer& out, std::vector<std::uint16_t>& mesh_of) {
-    if (parts.size() == 1) {
-        out = std::move(parts[0]);
-        mesh_of.assign(out.size(), 0);
-        return;
-    }
-    const std::size_t npix = std::size_t(parts[0].width) * std::size_t(parts[0].height);
-    std::vector<float> best(npix, std::numeric_limits<float>::infinity());
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> who(npix, {0xffffffffu, 0});
-    for (std::size_t m = 0; m < parts.size(); ++m)
-        for (std::size_t i = 0; i < parts[m].size(); ++i) {
-            const std::size_t p = std::size_t(parts[m].pixel[i]);
-            if (parts[m].depth[i] < best[p]) {
-                best[p] = parts[m].depth[i];
-                who[p] = {std::uint32_t(m), std::uint32_t(i)};
-            }
-        }
-    out = FragmentBuffer{};
-    out.width = parts[0].width;
-    out.height = parts[0].height;
-    mesh_of.clear();
-    for (std::size_t p = 0; p < npix; ++p) {
-        if (who[p].first == 0xffffffffu) continue;
-        const FragmentBuffer& f = parts[who[p].first];
-        const std::size_t i = who[p].second;
-        out.push_back(f.px[i], f.py[i], f.pz[i], f.nx[i], f.ny[i], f.nz[i], f.pixel[i], f.depth[i]);
-        mesh_of.push_back(std::uint16_t(who[p].first));
-    }
-}
-
 class Runner {
 public:
     Runner(const BatchOptions& o, Runtime& rt) : opt_(o), rt_(rt), shader_(rt) {}
@@ -164,6 +126,9 @@ private:
     void shade(Prepared& p);
     static void write(Prepared& p);
     std::string claim_outputs_note(const BatchJob& job, const Scene& s);
+    void write_reports(BatchSummary& sum) const;
+    void remove_stale(std::ostream& log) const;
+    void log_summary(std::ostream& log, const BatchSummary& sum, std::size_t all_jobs) const;
     void index_outputs(const std::vector<BatchJob>& all);
 
     const BatchOptions& opt_;
@@ -202,6 +167,67 @@ std::string Runner::claim_outputs_note(const BatchJob& job, const Scene& s) {
     return {};
 }
 
+// The scene as the render path takes it: its world meshes (moved out of `geo`), camera, lights and outputs.
+pipeline::Job job_for(const Scene& s, SceneGeometry& geo, int raster_threads) {
+    pipeline::Job job;
+    for (std::size_t i = 0; i < geo.meshes.size(); ++i)
+        job.meshes.push_back(pipeline::JobMesh{std::move(geo.meshes[i]), s.meshes[i].material, s.meshes[i].cull_backfaces});
+    job.camera = geo.camera;
+    job.width = s.width;
+    job.height = s.height;
+    job.lights = s.lights;
+    job.ambient = s.ambient;
+    job.background = s.background;
+    job.precision = s.precision;
+    job.per_vertex = s.per_vertex;
+    for (const auto* o : {&s.outputs.png, &s.outputs.exr})
+        if (!o->empty()) job.outputs.colour.push_back(*o);
+    job.outputs.depth = s.outputs.depth;
+    job.outputs.normal = s.outputs.normal;
+    job.raster_threads = raster_threads;
+    return job;
+}
+
+// --tolerance: the job planned on its own geometry, the choice told in a warning line. Per-pixel candidates
+// only, so that a batch's plans are what they were before per-vertex scenes existed (docs/batch.md).
+std::string plan_note(Runtime& rt, const BatchOptions& opt, pipeline::Job& job, pipeline::StageTimes& times) {
+    std::vector<std::string> requested;
+    for (const auto& m : job.meshes) requested.push_back(m.material.model);
+    PlanOptions po;
+    po.tolerance = opt.tolerance;
+    po.metric = opt.tolerance_relative ? PlanMetric::Relative : PlanMetric::DeltaE2000;
+    po.allow_per_vertex = false;
+    po.catalogue = opt.tolerance_catalogue;
+    const Plan plan = plan_job(rt, job, po, times);
+    std::ostringstream note;
+    note << "plan: " << plan.chosen.config.label() << " (error " << plan.chosen.error << ", measured speed-up "
+         << plan.chosen.speedup << "x, planning " << plan.planning_ms << " ms";
+    if (plan.chosen.config.catalogue)
+        for (std::size_t k = 0; k < plan.materials.size(); ++k)
+            if (plan.materials[k].model != requested[k])
+                note << ", mesh " << (k + 1) << " " << requested[k] << " -> " << plan.materials[k].model;
+    if (!plan.dropped_lights.empty()) note << ", " << plan.dropped_lights.size() << " light(s) compiled out";
+    note << ")";
+    return note.str();
+}
+
+// Fills the report fields the scene file alone gives.
+void describe_scene(JobResult& r, const Scene& s) {
+    r.name = s.name;
+    r.outputs = s.outputs.all();
+    r.warnings = s.warnings;
+    r.width = s.width;
+    r.height = s.height;
+    for (const auto& m : s.meshes) r.models.push_back(model_label(m.material));
+}
+
+void fail(Prepared& p, const std::string& message) {
+    p.result.status = JobResult::Status::Failed;
+    p.result.error = message;
+    p.settled = true;
+    p.images.clear();
+}
+
 Prepared Runner::prepare(const BatchJob& job) {
     Prepared p;
     JobResult& r = p.result;
@@ -210,189 +236,60 @@ Prepared Runner::prepare(const BatchJob& job) {
     try {
         p.scene = load_scene(job.scene, SceneLoadOptions{opt_.out_dir, job.mesh});
         const Scene& s = p.scene;
-        r.name = s.name;
-        r.outputs = s.outputs.all();
-        r.warnings = s.warnings;
-        r.width = s.width;
-        r.height = s.height;
-        for (const auto& m : s.meshes) r.models.push_back(model_label(m.material));
+        describe_scene(r, s);
         const std::string clash = claim_outputs_note(job, s);
         if (!clash.empty()) throw Error("scene '" + s.file + "': " + clash);
         if (!opt_.force && up_to_date(s)) {
             r.status = JobResult::Status::Skipped;
             p.settled = true;
-            r.load_ms = ms_since(t0);
+            r.times.load_ms = ms_since(t0);
             return p;
         }
         check_memory("scene '" + s.file + "': resolution " + std::to_string(s.width) + "x" + std::to_string(s.height),
                      double(s.width) * double(s.height) * kRenderBytesPerPixel);
         SceneGeometry geo = load_scene_geometry(s, [this](const std::string& path) { return meshes_.get(path); });
-        std::vector<Mesh>& loaded = geo.meshes;
         r.triangles = geo.triangles;
-        r.load_ms = ms_since(t0);
-
-        const auto t1 = clock_type::now();
-        const Camera& cam = geo.camera;
-        if (opt_.tolerance > 0.0) {
-            // Plan on this job's own geometry: per-pixel candidates only (fragments of several meshes are
-            // merged here, so per-vertex interpolation is not available on this path).
-            const PlanInput pin = plan_input_for(s, geo);
-            PlanOptions po;
-            po.tolerance = opt_.tolerance;
-            po.metric = opt_.tolerance_relative ? PlanMetric::Relative : PlanMetric::DeltaE2000;
-            po.allow_per_vertex = false;
-            po.catalogue = opt_.tolerance_catalogue;
-            const Plan plan = make_plan(rt_, pin, po);
-            p.planned = true;
-            p.plan_config = plan.chosen.config;
-            p.plan_lights = plan.kept_lights;
-            p.plan_materials = plan.materials;
-            std::ostringstream note;
-            note << "plan: " << plan.chosen.config.label() << " (error " << plan.chosen.error << ", measured speed-up "
-                 << plan.chosen.speedup << "x, planning " << plan.planning_ms << " ms";
-            if (plan.chosen.config.catalogue)
-                for (std::size_t k = 0; k < plan.materials.size(); ++k)
-                    if (plan.materials[k].model != pin.items[k].material.model)
-                        note << ", mesh " << (k + 1) << " " << pin.items[k].material.model << " -> " << plan.materials[k].model;
-            if (!plan.dropped_lights.empty()) note << ", " << plan.dropped_lights.size() << " light(s) compiled out";
-            note << ")";
-            r.warnings.push_back(note.str());
-        }
-        p.eye = cam.eye;
-        std::vector<FragmentBuffer> parts;
-        for (std::size_t i = 0; i < loaded.size(); ++i) {
-            RasterOptions ro;
-            ro.width = s.width;
-            ro.height = s.height;
-            ro.threads = opt_.raster_threads;
-            ro.cull_backfaces = s.meshes[i].cull_backfaces;
-            parts.push_back(rasterize(loaded[i], cam, ro));
-        }
-        merge_by_depth(parts, p.fb, p.mesh_of);
-        r.fragments = p.fb.size();
-        r.raster_ms = ms_since(t1);
-        if (p.fb.empty())
+        p.job = job_for(s, geo, opt_.raster_threads);
+        p.result.times.load_ms = ms_since(t0);
+        if (opt_.tolerance > 0.0) r.warnings.push_back(plan_note(rt_, opt_, p.job, p.result.times));
+        p.frame = pipeline::raster(p.job, p.result.times);
+        r.fragments = p.frame.fb.size();
+        if (p.frame.fb.empty())
             r.warnings.push_back("the meshes cover no pixel from this camera: the images hold the background only");
     } catch (const Error& e) {
-        r.status = JobResult::Status::Failed;
-        r.error = e.what();
-        p.settled = true;
-        if (r.load_ms == 0.0) r.load_ms = ms_since(t0);
+        fail(p, e.what());
+        if (p.result.times.load_ms == 0.0) p.result.times.load_ms = ms_since(t0);
     } catch (const std::exception& e) {
-        r.status = JobResult::Status::Failed;
-        r.error = job.label() + ": internal error: " + e.what();
-        p.settled = true;
+        fail(p, job.label() + ": internal error: " + e.what());
     }
     return p;
 }
 
 void Runner::shade(Prepared& p) {
-    JobResult& r = p.result;
     const Scene& s = p.scene;
     try {
-        const std::size_t n = p.fb.size();
-        std::vector<float> rgb(3 * n, 0.0f);
-        const auto t0 = clock_type::now();
-        for (std::size_t mi = 0; mi < s.meshes.size() && n > 0; ++mi) {
-            // This mesh's fragments, shaded with its material (one launch per material).
-            std::vector<std::size_t> idx;
-            for (std::size_t i = 0; i < n; ++i)
-                if (p.mesh_of[i] == mi) idx.push_back(i);
-            if (idx.empty()) continue;
-            const bool whole = idx.size() == n;
-            FragmentBuffer sub;
-            if (!whole) {
-                sub.width = p.fb.width;
-                sub.height = p.fb.height;
-                sub.reserve(idx.size());
-                for (std::size_t i : idx)
-                    sub.push_back(p.fb.px[i], p.fb.py[i], p.fb.pz[i], p.fb.nx[i], p.fb.ny[i], p.fb.nz[i], p.fb.pixel[i], p.fb.depth[i]);
-            }
-            ShadeSetup setup;
-            setup.material = s.meshes[mi].material;
-            setup.lights = s.lights;
-            setup.ambient = s.ambient;
-            setup.view = glm::dvec4(p.eye, 1.0);
-            setup.precision = s.precision;
-            if (p.planned) {
-                setup.material = p.plan_materials[mi];
-                setup.lights = p.plan_lights;
-                setup.precision = p.plan_config.precision;
-            }
-            ShadeTiming st;
-            std::vector<float> part;
-            try {
-                part = shader_.shade(whole ? p.fb : sub, setup, &st);
-            } catch (const Error& e) {
-                throw Error("scene '" + s.file + "': meshes[" + std::to_string(mi) + "] (model '" +
-                            s.meshes[mi].material.model + "'): " + e.what());
-            }
-            r.build_ms += st.build_ms;
-            r.kernel_ms += st.kernel_ms;
-            const std::size_t m = idx.size();
-            for (std::size_t k = 0; k < m; ++k)
-                for (std::size_t c = 0; c < 3; ++c) rgb[c * n + idx[k]] = part[c * m + k];
-        }
-        r.shade_ms = ms_since(t0);
-
+        const auto rgb = pipeline::shade(shader_, p.job, p.frame, p.result.times);
         // The images, composed here; written by write() (on its own thread when overlapping).
-        const auto& o = s.outputs;
-        if (!o.png.empty() || !o.exr.empty()) {
-            Image img = compose_image(p.fb, rgb, s.background);
-            if (!o.png.empty() && !o.exr.empty()) p.images.emplace_back(o.png, img);
-            else if (!o.png.empty()) p.images.emplace_back(o.png, std::move(img));
-            if (!o.exr.empty()) p.images.emplace_back(o.exr, std::move(img));
-        }
-        if (!o.depth.empty()) {
-            Image d(s.width, s.height, 1);   // 0 = no surface (covered depths are > z_near > 0)
-            for (std::size_t i = 0; i < n; ++i) d.pixels[std::size_t(p.fb.pixel[i])] = p.fb.depth[i];
-            p.images.emplace_back(o.depth, std::move(d));
-        }
-        if (!o.normal.empty()) {
-            Image nm(s.width, s.height, 4);
-            for (std::size_t i = 0; i < n; ++i) {
-                float* px = &nm.pixels[std::size_t(p.fb.pixel[i]) * 4];
-                px[0] = p.fb.nx[i];
-                px[1] = p.fb.ny[i];
-                px[2] = p.fb.nz[i];
-                px[3] = 1.0f;
-            }
-            p.images.emplace_back(o.normal, std::move(nm));
-        }
-        p.fb = FragmentBuffer{};   // not needed any more: free it before the next job's arrives
+        p.images = pipeline::resolve(p.job, p.frame, rgb, p.result.times);
+        p.frame = pipeline::Frame{};   // not needed any more: free it before the next job's arrives
     } catch (const Error& e) {
-        r.status = JobResult::Status::Failed;
         const std::string what = e.what();
-        r.error = what.rfind("scene '", 0) == 0 ? what : "scene '" + s.file + "': " + what;
-        p.images.clear();
+        fail(p, what.rfind("scene '", 0) == 0 ? what : "scene '" + s.file + "': " + what);
     } catch (const std::exception& e) {
-        r.status = JobResult::Status::Failed;
-        r.error = "scene '" + s.file + "': internal error: " + e.what();
-        p.images.clear();
+        fail(p, "scene '" + s.file + "': internal error: " + e.what());
     }
 }
 
 // Writes every image atomically (write_image: temporary file, then rename). Never throws.
 void Runner::write(Prepared& p) {
-    JobResult& r = p.result;
-    const auto t0 = clock_type::now();
     try {
-        for (const auto& [path, img] : p.images) write_image(path, img);
+        pipeline::write(p.images, p.result.times);
     } catch (const Error& e) {
-        r.status = JobResult::Status::Failed;
-        r.error = "scene '" + p.scene.file + "': " + e.what();
+        fail(p, "scene '" + p.scene.file + "': " + e.what());
     } catch (const std::exception& e) {
-        r.status = JobResult::Status::Failed;
-        r.error = "scene '" + p.scene.file + "': internal error while writing: " + e.what();
+        fail(p, "scene '" + p.scene.file + "': internal error while writing: " + e.what());
     }
     p.images.clear();
-    r.write_ms = ms_since(t0);
-}
-
-std::string fixed(double v, int digits) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(digits) << v;
-    return s.str();
 }
 
 std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
@@ -401,9 +298,9 @@ std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
     for (const auto& o : r.outputs) outs += (outs.empty() ? "" : ", ") + o;
     if (r.status == JobResult::Status::Skipped) return head + "up to date: " + r.job.label() + " (" + outs + ")";
     std::string line = head + "ok: " + r.job.label() + ": " + std::to_string(r.fragments) + " fragments, raster " +
-                       fixed(r.raster_ms, 1) + " ms, kernel " + fixed(r.kernel_ms, 1) + " ms (" +
+                       fixed(r.times.raster_ms, 1) + " ms, kernel " + fixed(r.times.kernel_ms, 1) + " ms (" +
                        fixed(r.mfrag_per_s(), 1) + " Mfrag/s)";
-    if (r.build_ms > 0.0) line += ", build " + fixed(r.build_ms, 0) + " ms";
+    if (r.times.build_ms > 0.0) line += ", build " + fixed(r.times.build_ms, 0) + " ms";
     return line + " -> " + outs;
 }
 
@@ -424,15 +321,7 @@ BatchSummary Runner::run() {
     sum.device = rt_.device_description();
     const std::size_t built0 = rt_.programs_built();
 
-    // Temporaries of an earlier run killed while writing (kill -9, power off): never complete, so removed.
-    {
-        std::size_t stale = remove_stale_temporaries(opt_.out_dir);
-        for (const auto& f : output_folders_)
-            if (fs::path(f).lexically_normal() != fs::path(opt_.out_dir).lexically_normal()) stale += remove_stale_temporaries(f);
-        if (stale)
-            log << "batch: removed " << stale << " unfinished temporary file" << (stale == 1 ? "" : "s")
-                << " left by an interrupted run\n";
-    }
+    remove_stale(log);
     Progress progress(jobs.size(), log, opt_.progress);
     // Job i+1 is parsed, loaded and rasterised on its own thread while job i shades on this one
     // (overlap), or right before it shades (deferred: no second thread).
@@ -494,6 +383,23 @@ BatchSummary Runner::run() {
     sum.wall_ms = ms_since(t0);
     sum.programs_built = rt_.programs_built() - built0;
 
+    write_reports(sum);
+    log_summary(log, sum, all.size());
+    return sum;
+}
+
+// Temporaries of an earlier run killed while writing (kill -9, power off): never complete, so removed.
+void Runner::remove_stale(std::ostream& log) const {
+    std::size_t stale = remove_stale_temporaries(opt_.out_dir);
+    for (const auto& f : output_folders_)
+        if (fs::path(f).lexically_normal() != fs::path(opt_.out_dir).lexically_normal()) stale += remove_stale_temporaries(f);
+    if (stale)
+        log << "batch: removed " << stale << " unfinished temporary file" << (stale == 1 ? "" : "s")
+            << " left by an interrupted run\n";
+}
+
+// The JSON report (and the CSV beside it): --report, else OUT/batch_report[_shardIofN].json.
+void Runner::write_reports(BatchSummary& sum) const {
     fs::path json_path = opt_.report;
     if (json_path.empty()) {
         std::string stem = "batch_report";
@@ -507,25 +413,23 @@ BatchSummary Runner::run() {
     sum.report_csv = csv_path.string();
     write_report_json(sum, sum.report_json);
     write_report_csv(sum, sum.report_csv);
+}
 
-    // The summary: counts, totals, throughput, then every failure again (they may have scrolled away).
-    double raster = 0, kernel = 0, build = 0, write = 0, shade = 0;
+// The summary: counts, the time of each stage summed over the jobs, throughput, then every failure again
+// (they may have scrolled away).
+void Runner::log_summary(std::ostream& log, const BatchSummary& sum, std::size_t all_jobs) const {
+    pipeline::StageTimes t;
     std::size_t frags = 0;
     for (const auto& r : sum.jobs) {
-        raster += r.raster_ms;
-        kernel += r.kernel_ms;
-        build += r.build_ms;
-        write += r.write_ms;
-        shade += r.shade_ms;
+        t += r.times;
         frags += r.fragments;
     }
     log << "batch: " << sum.jobs.size() << " jobs";
-    if (opt_.shard_count > 1) log << " (shard " << opt_.shard_index << "/" << opt_.shard_count << " of " << all.size() << ")";
+    if (opt_.shard_count > 1) log << " (shard " << opt_.shard_index << "/" << opt_.shard_count << " of " << all_jobs << ")";
     log << ": " << sum.ok << " rendered, " << sum.skipped << " up to date, " << sum.failed << " failed; wall "
         << fixed(sum.wall_ms / 1000.0, 2) << " s, " << sum.programs_built << " programs built\n";
-    log << "  rasterise " << fixed(raster, 0) << " ms, shade " << fixed(shade, 0) << " ms (kernel " << fixed(kernel, 0)
-        << " ms, build " << fixed(build, 0) << " ms), write " << fixed(write, 0) << " ms; " << frags << " fragments, "
-        << fixed(kernel > 0 ? double(frags) / kernel / 1000.0 : 0.0, 1) << " Mfrag/s in the kernel\n";
+    log << "  stages: " << pipeline::describe(t) << "; " << frags << " fragments, "
+        << fixed(t.kernel_ms > 0 ? double(frags) / t.kernel_ms / 1000.0 : 0.0, 1) << " Mfrag/s in the kernel\n";
     log << "  overlap " << (opt_.overlap ? "on" : "off");
     if (opt_.overlap)
         log << " (shading waited " << fixed(sum.wait_ms, 0) << " ms for rasterisation, " << fixed(sum.write_wait_ms, 0)
@@ -534,15 +438,8 @@ BatchSummary Runner::run() {
     for (const auto& r : sum.jobs)
         if (r.status == JobResult::Status::Failed) log << "  failed: " << r.error << "\n";
     log << "report: " << sum.report_json << ", " << sum.report_csv << "\n";
-    return sum;
 }
 
-std::string csv_field(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-}
 
 }  // namespace
 
@@ -550,7 +447,7 @@ std::string BatchJob::label() const {
     return mesh.empty() ? "scene '" + scene + "'" : "scene '" + scene + "' with mesh '" + mesh + "'";
 }
 
-double JobResult::mfrag_per_s() const { return kernel_ms > 0.0 ? double(fragments) / kernel_ms / 1000.0 : 0.0; }
+double JobResult::mfrag_per_s() const { return times.kernel_ms > 0.0 ? double(fragments) / times.kernel_ms / 1000.0 : 0.0; }
 
 const char* status_name(JobResult::Status s) {
     switch (s) {
@@ -593,7 +490,7 @@ std::vector<BatchJob> plan_all_jobs(const BatchOptions& o) {
         if (fs::is_directory(s, ec)) {
             std::size_t found = 0;
             for (const auto& e : fs::directory_iterator(s, ec))
-                if (e.is_regular_file() && lower_ext(e.path()) == ".json") {
+                if (e.is_regular_file() && lower_ext(e.path().string()) == ".json") {
                     keys.emplace_back(e.path().string(), std::string());
                     ++found;
                 }
@@ -638,12 +535,13 @@ void write_report_json(const BatchSummary& s, const std::string& path) {
                         {"height", r.height},
                         {"triangles", r.triangles},
                         {"fragments", r.fragments},
-                        {"load_ms", r.load_ms},
-                        {"raster_ms", r.raster_ms},
-                        {"build_ms", r.build_ms},
-                        {"kernel_ms", r.kernel_ms},
-                        {"shade_ms", r.shade_ms},
-                        {"write_ms", r.write_ms},
+                        {"load_ms", r.times.load_ms},
+                        {"raster_ms", r.times.raster_ms},
+                        {"build_ms", r.times.build_ms},
+                        {"kernel_ms", r.times.kernel_ms},
+                        {"shade_ms", r.times.shade_ms},
+                        {"resolve_ms", r.times.resolve_ms},
+                        {"write_ms", r.times.write_ms},
                         {"mfrag_per_s", r.mfrag_per_s()},
                         {"error", r.error},
                         {"warnings", r.warnings}});
@@ -668,21 +566,23 @@ void write_report_json(const BatchSummary& s, const std::string& path) {
 }
 
 void write_report_csv(const BatchSummary& s, const std::string& path) {
-    std::ostringstream out;
-    out << "index,scene,mesh,name,status,outputs,models,width,height,triangles,fragments,load_ms,raster_ms,"
-           "build_ms,kernel_ms,shade_ms,write_ms,mfrag_per_s,error\n";
+    CsvTable t({"index", "scene", "mesh", "name", "status", "outputs", "models", "width", "height", "triangles",
+                "fragments", "load_ms", "raster_ms", "build_ms", "kernel_ms", "shade_ms", "resolve_ms", "write_ms",
+                "mfrag_per_s", "error"});
     for (const auto& r : s.jobs) {
         std::string outs, models;
         for (const auto& o : r.outputs) outs += (outs.empty() ? "" : ";") + o;
         for (const auto& m : r.models) models += (models.empty() ? "" : ";") + m;
-        out << r.job.index << ',' << csv_field(r.job.scene) << ',' << csv_field(r.job.mesh) << ',' << csv_field(r.name)
-            << ',' << status_name(r.status) << ',' << csv_field(outs) << ',' << csv_field(models) << ',' << r.width << ','
-            << r.height << ',' << r.triangles << ',' << r.fragments << ',' << fixed(r.load_ms, 3) << ','
-            << fixed(r.raster_ms, 3) << ',' << fixed(r.build_ms, 3) << ',' << fixed(r.kernel_ms, 3) << ','
-            << fixed(r.shade_ms, 3) << ',' << fixed(r.write_ms, 3) << ',' << fixed(r.mfrag_per_s(), 3) << ','
-            << csv_field(r.error) << '\n';
+        t.row().add_count(r.job.index).add_quoted(r.job.scene).add_quoted(r.job.mesh).add_quoted(r.name)
+            .add_quoted(status_name(r.status)).add_quoted(outs).add_quoted(models).add_count(std::size_t(r.width))
+            .add_count(std::size_t(r.height)).add_count(r.triangles).add_count(r.fragments);
+        const pipeline::StageTimes& tm = r.times;
+        for (double ms : {tm.load_ms, tm.raster_ms, tm.build_ms, tm.kernel_ms, tm.shade_ms, tm.resolve_ms, tm.write_ms,
+                          r.mfrag_per_s()})
+            t.add_fixed(ms, 3);
+        t.add_quoted(r.error);
     }
-    write_text_atomically(path, "report", out.str());
+    write_text_atomically(path, "report", t.text());
 }
 
 }  // namespace shadelab

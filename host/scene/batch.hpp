@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cl/runtime.hpp"
+#include "pipeline/pipeline.hpp"
 #include "scene/progress.hpp"
 
 namespace shadelab {
@@ -58,12 +59,10 @@ struct JobResult {
     int width = 0, height = 0;
     std::size_t triangles = 0;
     std::size_t fragments = 0;
-    double load_ms = 0.0;              // parse the scene, load and transform the meshes
-    double raster_ms = 0.0;
-    double build_ms = 0.0;             // program builds (0 when every program was cached)
-    double kernel_ms = 0.0;            // device time of the shading kernels (profiling events)
-    double shade_ms = 0.0;             // wall time of shading: build + upload + kernel + download
-    double write_ms = 0.0;
+    // load (parse the scene, load and transform the meshes), raster, build (program builds; 0 when every program
+    // was cached), kernel (device time of the shading kernels, profiling events), shade (wall time of shading:
+    // build + upload + kernel + download), resolve (images and AOVs), write: the render path's stages.
+    pipeline::StageTimes times;
     double mfrag_per_s() const;        // fragments / kernel time, in millions per second (0 if no kernel ran)
 };
 const char* status_name(JobResult::Status s);

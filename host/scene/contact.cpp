@@ -21,6 +21,7 @@
 #include "image/image.hpp"
 #include "core/assets.hpp"
 #include "mesh/mesh.hpp"
+#include "pipeline/pipeline.hpp"
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
 #include "shade/shader.hpp"
@@ -38,19 +39,32 @@ const glm::dvec3 kViewFrom{0.0, 0.25, 1.0};
 const glm::dvec3 kKeyLight{1.0, 1.0, 1.0};
 const glm::dvec3 kAmbient{0.03, 0.03, 0.03};
 
+// One of the two views of a tile (the sphere or the mesh): a one-mesh job of the render path, rasterised once
+// and shaded once per model.
 struct View {
-    FragmentBuffer fb;
-    Camera cam;
+    pipeline::Job job;
+    pipeline::Frame frame;
 };
 
-View frame(const Mesh& mesh, int cell) {
+View frame(Mesh mesh, const ContactOptions& o) {
     View v;
-    v.cam = Camera::fit(mesh.bounds(), kViewFrom, 30.0, 1.0);
-    RasterOptions ro;
-    ro.width = cell;
-    ro.height = cell;
-    v.fb = rasterize(mesh, v.cam, ro);
+    v.job.camera = Camera::fit(mesh.bounds(), kViewFrom, 30.0, 1.0);
+    v.job.meshes.push_back(pipeline::JobMesh{std::move(mesh), Material{}, false});
+    v.job.width = v.job.height = o.cell;
+    v.job.lights = {Light{Light::Type::Directional, kKeyLight, {1.0, 1.0, 1.0}, 1.0, 0.0}};
+    v.job.ambient = kAmbient;
+    v.job.background = kGround;
+    v.job.precision = o.precision;
+    v.job.per_vertex = o.per_vertex;
+    pipeline::StageTimes times;
+    v.frame = pipeline::raster(v.job, times);
     return v;
+}
+
+Image shade_view(Shader& shader, View& v, const Material& mat) {
+    v.job.meshes.front().material = mat;
+    pipeline::StageTimes times;
+    return pipeline::compose(v.job, v.frame, pipeline::shade(shader, v.job, v.frame, times), times);
 }
 
 // A material at the model's defaults; models that blend others get two Lambert children of
@@ -83,6 +97,50 @@ std::string find_label_font() {
     return found.empty() ? "" : found.front();
 }
 
+namespace {
+
+// Labels: OpenImageIO's render_text (FreeType) with a system TrueType font, centred under each tile.
+void draw_labels(Image& sheet, const std::vector<std::string>& labels, int cols, int tile_w, int tile_h, int cell,
+                 int label_h, ContactResult& res, std::ostream& log) {
+    res.font = find_label_font();
+    if (res.font.empty()) return;
+    OIIO::ImageBuf buf(OIIO::ImageSpec(res.width, res.height, 4, OIIO::TypeDesc::FLOAT), sheet.pixels.data());
+    const float white[4] = {0.9f, 0.9f, 0.9f, 1.0f};
+    bool ok = true;
+    for (std::size_t i = 0; i < labels.size() && ok; ++i) {
+        const int cx = (int(i) % cols) * tile_w + tile_w / 2;
+        const int cy = (int(i) / cols) * tile_h + cell + label_h / 2;
+        // The largest size up to the strip's height at which the name fits the tile's width.
+        int size = std::max(8, label_h - 8);
+        while (size > 8) {
+            const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(labels[i], size, res.font);
+            if (!box.defined() || box.width() <= tile_w - 8) break;
+            --size;
+        }
+        ok = OIIO::ImageBufAlgo::render_text(buf, cx, cy, labels[i], size, res.font, OIIO::cspan<float>(white, 4),
+                                             OIIO::ImageBufAlgo::TextAlignX::Center,
+                                             OIIO::ImageBufAlgo::TextAlignY::Center);
+    }
+    res.labelled = ok;
+    if (!ok) log << "contact sheet: could not render labels with '" << res.font << "': " << buf.geterror() << "\n";
+}
+
+// No usable font: the names go to a legend file beside the image, tile by tile.
+void write_legend(const ContactOptions& o, const std::string& mesh_file, const std::vector<std::string>& labels,
+                  int cols, ContactResult& res, std::ostream& log) {
+    res.legend = fs::path(o.output).replace_extension(".txt").string();
+    std::ostringstream legend;
+    legend << "contact sheet " << o.output << ": " << cols << " tiles per row, each sphere | "
+           << fs::path(mesh_file).filename().string() << "; no TrueType font was found for labels\n";
+    for (std::size_t i = 0; i < labels.size(); ++i)
+        legend << "row " << int(i) / cols + 1 << ", column " << int(i) % cols + 1 << ": " << labels[i] << "\n";
+    write_text_atomically(res.legend, "legend", legend.str());
+    log << "contact sheet: no TrueType font found (install fonts-dejavu-core or set SHADELAB_FONT): names in "
+        << res.legend << "\n";
+}
+
+}  // namespace
+
 ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
     std::ostream& log = o.log ? *o.log : shadelab::log_out();
     const auto t0 = std::chrono::steady_clock::now();
@@ -97,13 +155,13 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
     }
     if (models.empty()) throw Error("contact sheet: the catalogue is empty");
 
-    const View sphere = frame(make_icosphere(4), o.cell);
+    View sphere = frame(make_icosphere(4), o);
     // Real meshes mostly face +z or -z (spot faces -z): turned 215 degrees about y, a three-quarter view of
     // spot's face from the sheet's camera, lit by the same key light as the sphere.
     const std::string mesh_file = o.mesh.empty() ? bundled_mesh("spot.obj") : o.mesh;
     Mesh real = load_mesh(mesh_file);
     real.transform(glm::rotate(glm::dmat4(1.0), glm::radians(o.mesh_turn_deg), glm::dvec3(0.0, 1.0, 0.0)));
-    const View mesh = frame(real, o.cell);
+    View mesh = frame(std::move(real), o);
 
     const int n = int(models.size());
     const int label_h = std::max(14, o.cell / 7 + 8);
@@ -130,15 +188,7 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
         std::string label = info.name;
         try {
             const Material mat = default_material(info);
-            for (int k = 0; k < 2; ++k) {
-                const View& v = k == 0 ? sphere : mesh;
-                ShadeSetup setup;
-                setup.material = mat;
-                setup.lights = {Light{Light::Type::Directional, kKeyLight, {1.0, 1.0, 1.0}, 1.0, 0.0}};
-                setup.ambient = kAmbient;
-                setup.view = glm::dvec4(v.cam.eye, 1.0);
-                blit(sheet, compose_image(v.fb, shader.shade(v.fb, setup), kGround), x0 + k * o.cell, y0);
-            }
+            for (int k = 0; k < 2; ++k) blit(sheet, shade_view(shader, k == 0 ? sphere : mesh, mat), x0 + k * o.cell, y0);
         } catch (const Error& e) {
             res.failed.push_back(info.name + ": " + e.what());
             log << "contact sheet: model '" << info.name << "' failed: " << e.what() << "\n";
@@ -147,41 +197,8 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
         labels.push_back(label);
     }
 
-    // Labels: OpenImageIO's render_text (FreeType) with a system TrueType font, centred under each tile.
-    res.font = find_label_font();
-    if (!res.font.empty()) {
-        OIIO::ImageBuf buf(OIIO::ImageSpec(res.width, res.height, 4, OIIO::TypeDesc::FLOAT), sheet.pixels.data());
-        const float white[4] = {0.9f, 0.9f, 0.9f, 1.0f};
-        bool ok = true;
-        for (int i = 0; i < n && ok; ++i) {
-            const int cx = (i % cols) * tile_w + tile_w / 2;
-            const int cy = (i / cols) * tile_h + o.cell + label_h / 2;
-            // The largest size up to the strip's height at which the name fits the tile's width.
-            int size = std::max(8, label_h - 8);
-            while (size > 8) {
-                const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(labels[std::size_t(i)], size, res.font);
-                if (!box.defined() || box.width() <= tile_w - 8) break;
-                --size;
-            }
-            ok = OIIO::ImageBufAlgo::render_text(buf, cx, cy, labels[std::size_t(i)], size, res.font,
-                                                 OIIO::cspan<float>(white, 4), OIIO::ImageBufAlgo::TextAlignX::Center,
-                                                 OIIO::ImageBufAlgo::TextAlignY::Center);
-        }
-        res.labelled = ok;
-        if (!ok) log << "contact sheet: could not render labels with '" << res.font << "': " << buf.geterror() << "\n";
-    }
-    if (!res.labelled) {
-        // No usable font: the names go to a legend file beside the image, tile by tile.
-        res.legend = fs::path(o.output).replace_extension(".txt").string();
-        std::ostringstream legend;
-        legend << "contact sheet " << o.output << ": " << cols << " tiles per row, each sphere | "
-               << fs::path(mesh_file).filename().string() << "; no TrueType font was found for labels\n";
-        for (int i = 0; i < n; ++i)
-            legend << "row " << i / cols + 1 << ", column " << i % cols + 1 << ": " << labels[std::size_t(i)] << "\n";
-        write_text_atomically(res.legend, "legend", legend.str());
-        log << "contact sheet: no TrueType font found (install fonts-dejavu-core or set SHADELAB_FONT): names in "
-            << res.legend << "\n";
-    }
+    draw_labels(sheet, labels, cols, tile_w, tile_h, o.cell, label_h, res, log);
+    if (!res.labelled) write_legend(o, mesh_file, labels, cols, res, log);
     write_image(o.output, sheet);
     res.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return res;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cl/runtime.hpp"
+#include "shade/shader.hpp"
 
 namespace shadelab {
 
@@ -17,6 +18,8 @@ struct ContactOptions {
     int cell = 128;                          // side of each rendered square, pixels
     int columns = 0;                         // model tiles per row; 0: chosen for a roughly 4:3 sheet
     std::vector<std::string> models;         // empty: the whole catalogue, in its order
+    Precision precision = Precision::Precise;   // of every tile
+    bool per_vertex = false;                 // every tile shaded at the vertices and interpolated (Gouraud)
     std::ostream* log = nullptr;             // nullptr: std::cerr
 };
 

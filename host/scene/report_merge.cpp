@@ -79,12 +79,13 @@ BatchSummary read_report_json(const std::string& path) {
         r.height = field<int>(j, "height", w);
         r.triangles = field<std::size_t>(j, "triangles", w);
         r.fragments = field<std::size_t>(j, "fragments", w);
-        r.load_ms = field<double>(j, "load_ms", w);
-        r.raster_ms = field<double>(j, "raster_ms", w);
-        r.build_ms = field<double>(j, "build_ms", w);
-        r.kernel_ms = field<double>(j, "kernel_ms", w);
-        r.shade_ms = field<double>(j, "shade_ms", w);
-        r.write_ms = field<double>(j, "write_ms", w);
+        r.times.load_ms = field<double>(j, "load_ms", w);
+        r.times.raster_ms = field<double>(j, "raster_ms", w);
+        r.times.build_ms = field<double>(j, "build_ms", w);
+        r.times.kernel_ms = field<double>(j, "kernel_ms", w);
+        r.times.shade_ms = field<double>(j, "shade_ms", w);
+        r.times.resolve_ms = j.contains("resolve_ms") ? field<double>(j, "resolve_ms", w) : 0.0;   // absent before the stage breakdown
+        r.times.write_ms = field<double>(j, "write_ms", w);
         r.error = field<std::string>(j, "error", w);
         r.warnings = field<std::vector<std::string>>(j, "warnings", w);
         s.jobs.push_back(std::move(r));

@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/text.hpp"
 #include "image/image.hpp"
 #include "models/catalogue.hpp"
@@ -31,7 +32,7 @@ constexpr int kMaxJsonDepth = 32;        // the deepest scene key is 6 levels do
 const std::map<std::string, std::vector<std::string>>& schema_keys() {
     static const std::map<std::string, std::vector<std::string>> k{
         {"scene", {"name", "camera", "resolution", "meshes", "materials", "lights", "ambient", "background",
-                   "outputs", "precision"}},
+                   "outputs", "precision", "per_vertex"}},
         {"camera", {"fit", "view_from", "position", "target", "up", "fov"}},
         {"mesh", {"path", "transform", "material", "cull_backfaces"}},
         {"transform", {"matrix", "translate", "rotate", "scale"}},
@@ -46,12 +47,6 @@ std::string type_of(const json& v) {
     std::string s = v.dump();
     if (s.size() > 40) s = s.substr(0, 37) + "...";
     return std::string(v.type_name()) + " " + s;
-}
-
-std::string fmt(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
 }
 
 // Parsing context: the file for messages and the folder mesh paths are relative to.
@@ -97,12 +92,12 @@ public:
         if (!v.is_number()) fail(field, "expected a number, got " + type_of(v));
         const double x = v.get<double>();
         if (!std::isfinite(x) || x < lo || x > hi)
-            fail(field, fmt(x) + " is out of range: allowed [" + fmt(lo) + ", " + fmt(hi) + "]");
+            fail(field, num(x) + " is out of range: allowed [" + num(lo) + ", " + num(hi) + "]");
         return x;
     }
     int integer(const json& v, const std::string& field, int lo, int hi) const {
         const double x = number(v, field, lo, hi);
-        if (x != std::floor(x)) fail(field, fmt(x) + " must be a whole number");
+        if (x != std::floor(x)) fail(field, num(x) + " must be a whole number");
         return int(x);
     }
     bool boolean(const json& v, const std::string& field) const {
@@ -295,14 +290,39 @@ const std::vector<std::string>& scene_keys(const std::string& object) {
     return it->second;
 }
 
-Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptions& opt) {
-    const Parser p(file, opt);
-    p.check_keys(doc, "scene", "");
-    Scene s;
-    s.file = file;
-    const bool template_mode = !opt.mesh_override.empty();
+namespace {
 
-    // Meshes first: their stems feed the job name and {mesh}.
+SceneMesh parse_mesh(const Parser& p, MaterialParser& mp, const json& m, std::size_t i) {
+    const SceneLoadOptions& opt = p.options();
+    const bool template_mode = !opt.mesh_override.empty();
+    const std::string f = Parser::index("meshes", i);
+    p.check_keys(m, "mesh", f);
+    SceneMesh sm;
+    if (template_mode) {
+        sm.path = sm.path_written = opt.mesh_override;
+    } else {
+        if (!m.contains("path")) p.fail(f, "missing \"path\" (the mesh file, relative to the scene file's folder)");
+        sm.path_written = p.string(m["path"], Parser::join(f, "path"));
+        if (sm.path_written.empty()) p.fail(Parser::join(f, "path"), "is empty");
+        const fs::path mp_path(sm.path_written);
+        const fs::path folder = fs::path(p.file()).parent_path();
+        sm.path = (mp_path.is_absolute() ? mp_path : (folder / mp_path).lexically_normal()).string();
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(sm.path, ec))
+        p.fail(template_mode ? f : Parser::join(f, "path"),
+               "mesh '" + sm.path_written + "' not found" +
+                   (sm.path == sm.path_written ? std::string() : " (looked for '" + sm.path + "': mesh paths are relative to the scene file's folder)"));
+    if (m.contains("transform")) sm.transform = parse_transform(p, m["transform"], Parser::join(f, "transform"));
+    sm.material = m.contains("material") ? mp.parse(m["material"], Parser::join(f, "material"))
+                                         : resolve_material(Material{}, p.where(f));
+    if (m.contains("cull_backfaces")) sm.cull_backfaces = p.boolean(m["cull_backfaces"], Parser::join(f, "cull_backfaces"));
+    return sm;
+}
+
+// Meshes first: their stems feed the job name and {mesh}.
+void parse_meshes(const Parser& p, const json& doc, Scene& s) {
+    const bool template_mode = !p.options().mesh_override.empty();
     const json library = doc.contains("materials") ? doc["materials"] : json::object();
     if (!library.is_object()) p.fail("materials", "expected an object of name: material, got " + type_of(library));
     MaterialParser mp(p, library);
@@ -312,69 +332,52 @@ Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptio
     if (template_mode && meshes.size() != 1)
         p.fail("meshes", "a template scene (--scene with --meshes) must have exactly one mesh entry, whose path is "
                          "replaced by each mesh of the folder; this one has " + std::to_string(meshes.size()));
-    const fs::path folder = fs::path(file).parent_path();
-    for (std::size_t i = 0; i < meshes.size(); ++i) {
-        const std::string f = Parser::index("meshes", i);
-        const json& m = meshes[i];
-        p.check_keys(m, "mesh", f);
-        SceneMesh sm;
-        if (template_mode) {
-            sm.path = sm.path_written = opt.mesh_override;
-        } else {
-            if (!m.contains("path")) p.fail(f, "missing \"path\" (the mesh file, relative to the scene file's folder)");
-            sm.path_written = p.string(m["path"], Parser::join(f, "path"));
-            if (sm.path_written.empty()) p.fail(Parser::join(f, "path"), "is empty");
-            const fs::path mp_path(sm.path_written);
-            sm.path = (mp_path.is_absolute() ? mp_path : (folder / mp_path).lexically_normal()).string();
-        }
-        std::error_code ec;
-        if (!fs::is_regular_file(sm.path, ec))
-            p.fail(template_mode ? f : Parser::join(f, "path"),
-                   "mesh '" + sm.path_written + "' not found" +
-                       (sm.path == sm.path_written ? std::string() : " (looked for '" + sm.path + "': mesh paths are relative to the scene file's folder)"));
-        if (m.contains("transform")) sm.transform = parse_transform(p, m["transform"], Parser::join(f, "transform"));
-        sm.material = m.contains("material") ? mp.parse(m["material"], Parser::join(f, "material"))
-                                             : resolve_material(Material{}, p.where(f));
-        if (m.contains("cull_backfaces")) sm.cull_backfaces = p.boolean(m["cull_backfaces"], Parser::join(f, "cull_backfaces"));
-        s.meshes.push_back(std::move(sm));
-    }
+    for (std::size_t i = 0; i < meshes.size(); ++i) s.meshes.push_back(parse_mesh(p, mp, meshes[i], i));
     // Library entries nobody uses are still checked (an error there is an error in the file).
     for (auto it = library.begin(); it != library.end(); ++it) {
         if (std::find(mp.used().begin(), mp.used().end(), it.key()) != mp.used().end()) continue;
         MaterialParser(p, library).parse(it.value(), "materials." + it.key(), 1);
         s.warnings.push_back("materials." + it.key() + " is not used by any mesh");
     }
+}
 
+void parse_name(const Parser& p, const json& doc, Scene& s) {
+    const SceneLoadOptions& opt = p.options();
+    const bool template_mode = !opt.mesh_override.empty();
     if (template_mode) s.name = stem_of(opt.mesh_override);
     else if (doc.contains("name")) s.name = p.string(doc["name"], "name");
-    else s.name = stem_of(file);
+    else s.name = stem_of(p.file());
     if (s.name.empty() || s.name.find_first_of("/\\") != std::string::npos)
         p.fail("name", "'" + s.name + "' cannot name output files (empty or contains a path separator)");
     if (template_mode && doc.contains("name")) s.warnings.push_back("name is ignored in template mode: each job is named after its mesh");
+}
 
-    if (doc.contains("camera")) {
-        const json& c = doc["camera"];
-        p.check_keys(c, "camera", "camera");
-        auto& cam = s.camera;
-        const bool has_pos = c.contains("position");
-        cam.fit = c.contains("fit") ? p.boolean(c["fit"], "camera.fit") : !has_pos;
-        if (cam.fit && has_pos) p.fail("camera", "\"fit\": true and \"position\" both given: fit places the camera itself; drop one");
-        if (!cam.fit && !has_pos) p.fail("camera", "\"fit\": false needs \"position\"");
-        if (!cam.fit && c.contains("view_from")) p.fail("camera.view_from", "only used when the camera is fitted (no \"position\")");
-        if (cam.fit && c.contains("target")) p.fail("camera.target", "a fitted camera looks at the centre of the meshes' bounds; give \"position\" to aim it yourself");
-        if (c.contains("view_from")) cam.view_from = p.direction(c["view_from"], "camera.view_from");
-        if (has_pos) cam.position = p.vec3(c["position"], "camera.position");
-        if (c.contains("target")) { cam.target = p.vec3(c["target"], "camera.target"); cam.has_target = true; }
-        if (c.contains("up")) cam.up = p.direction(c["up"], "camera.up");
-        if (c.contains("fov")) cam.fov_deg = p.number(c["fov"], "camera.fov", 1.0, 170.0);
-        if (!cam.fit) {
-            if (cam.has_target && glm::length(cam.target - cam.position) == 0.0)
-                p.fail("camera.target", "equals the camera position: the view direction is undefined");
-            const glm::dvec3 dir = cam.has_target ? cam.target - cam.position : glm::dvec3(0.0);
-            if (cam.has_target && glm::length(glm::cross(glm::normalize(dir), glm::normalize(cam.up))) < 1e-9)
-                p.fail("camera.up", "is parallel to the view direction: choose another up vector");
-        }
+SceneCamera parse_camera(const Parser& p, const json& c) {
+    p.check_keys(c, "camera", "camera");
+    SceneCamera cam;
+    const bool has_pos = c.contains("position");
+    cam.fit = c.contains("fit") ? p.boolean(c["fit"], "camera.fit") : !has_pos;
+    if (cam.fit && has_pos) p.fail("camera", "\"fit\": true and \"position\" both given: fit places the camera itself; drop one");
+    if (!cam.fit && !has_pos) p.fail("camera", "\"fit\": false needs \"position\"");
+    if (!cam.fit && c.contains("view_from")) p.fail("camera.view_from", "only used when the camera is fitted (no \"position\")");
+    if (cam.fit && c.contains("target")) p.fail("camera.target", "a fitted camera looks at the centre of the meshes' bounds; give \"position\" to aim it yourself");
+    if (c.contains("view_from")) cam.view_from = p.direction(c["view_from"], "camera.view_from");
+    if (has_pos) cam.position = p.vec3(c["position"], "camera.position");
+    if (c.contains("target")) { cam.target = p.vec3(c["target"], "camera.target"); cam.has_target = true; }
+    if (c.contains("up")) cam.up = p.direction(c["up"], "camera.up");
+    if (c.contains("fov")) cam.fov_deg = p.number(c["fov"], "camera.fov", 1.0, 170.0);
+    if (!cam.fit) {
+        if (cam.has_target && glm::length(cam.target - cam.position) == 0.0)
+            p.fail("camera.target", "equals the camera position: the view direction is undefined");
+        const glm::dvec3 dir = cam.has_target ? cam.target - cam.position : glm::dvec3(0.0);
+        if (cam.has_target && glm::length(glm::cross(glm::normalize(dir), glm::normalize(cam.up))) < 1e-9)
+            p.fail("camera.up", "is parallel to the view direction: choose another up vector");
     }
+    return cam;
+}
+
+// resolution, lights, ambient, background, precision, per_vertex.
+void parse_look(const Parser& p, const json& doc, Scene& s) {
     if (doc.contains("resolution")) {
         const json& r = doc["resolution"];
         if (!r.is_array() || r.size() != 2) p.fail("resolution", "expected [width, height], got " + type_of(r));
@@ -402,10 +405,13 @@ Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptio
         if (pr != "precise" && pr != "fast") p.fail("precision", "'" + pr + "': use \"precise\" or \"fast\"");
         s.precision = parse_precision(pr);
     }
+    if (doc.contains("per_vertex")) s.per_vertex = p.boolean(doc["per_vertex"], "per_vertex");
+}
 
-    // Outputs: placeholders expanded, then relative paths resolved against the output folder.
+// Outputs: placeholders expanded, then relative paths resolved against the output folder.
+void parse_outputs(const Parser& p, const json& doc, Scene& s) {
     const std::map<std::string, std::string> vars{
-        {"name", s.name}, {"scene", stem_of(file)}, {"mesh", stem_of(s.meshes.front().path)}};
+        {"name", s.name}, {"scene", stem_of(p.file())}, {"mesh", stem_of(s.meshes.front().path)}};
     std::map<std::string, std::string> outs{{"png", "{name}.png"}};
     if (doc.contains("outputs")) {
         const json& o = doc["outputs"];
@@ -431,7 +437,7 @@ Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptio
         if (key != "png" && enc != Encoding::Linear)
             p.fail(f, "'" + rel + "' is not a linear float format: use .exr");
         const fs::path path(rel);
-        const std::string full = path.is_absolute() ? rel : (fs::path(opt.out_dir) / path).lexically_normal().string();
+        const std::string full = path.is_absolute() ? rel : (fs::path(p.options().out_dir) / path).lexically_normal().string();
         if (std::find(seen.begin(), seen.end(), full) != seen.end()) p.fail(f, "'" + full + "' is already written by another output");
         seen.push_back(full);
         if (key == "png") s.outputs.png = full;
@@ -439,6 +445,20 @@ Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptio
         else if (key == "depth") s.outputs.depth = full;
         else s.outputs.normal = full;
     }
+}
+
+}  // namespace
+
+Scene parse_scene(const json& doc, const std::string& file, const SceneLoadOptions& opt) {
+    const Parser p(file, opt);
+    p.check_keys(doc, "scene", "");
+    Scene s;
+    s.file = file;
+    parse_meshes(p, doc, s);
+    parse_name(p, doc, s);
+    if (doc.contains("camera")) s.camera = parse_camera(p, doc["camera"]);
+    parse_look(p, doc, s);
+    parse_outputs(p, doc, s);
     return s;
 }
 

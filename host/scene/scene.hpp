@@ -59,6 +59,7 @@ struct Scene {
     glm::dvec3 ambient{0.0};
     glm::dvec4 background{0.0, 0.0, 0.0, 0.0};
     Precision precision = Precision::Precise;
+    bool per_vertex = false;     // shade the vertices and interpolate (Gouraud), as `render --per-vertex`
     SceneOutputs outputs;
     std::vector<std::string> warnings;   // things worth telling the user that are not errors
 };

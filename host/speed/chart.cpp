@@ -15,9 +15,9 @@ namespace shadelab::speed {
 
 namespace {
 
-using moon::gp_string;
-using moon::gnuplot_preamble;
-using moon::gp_number;
+using plot::gp_string;
+using plot::gnuplot_preamble;
+using plot::gp_number;
 
 // gnuplot double-quoted string: "\n" in `s` becomes a line break; quotes and backslashes are escaped.
 std::string gp_dq(const std::string& s) {
@@ -105,7 +105,7 @@ std::string speed_panel(const std::string& csv, const std::vector<ChartRow>& row
 // The error figures of a comparison, as CSV columns: the names, and one row's values (same order).
 const std::vector<std::string> kFigureColumns = {"rel_max",    "rel_p99",  "de2000_mean", "de2000_p99",
                                                  "de2000_max", "abs_max", "pixels",      "coverage_mismatch"};
-moon::CsvTable& add_figures(moon::CsvTable& t, const DiffFigures& e) {
+CsvTable& add_figures(CsvTable& t, const DiffFigures& e) {
     return t.add(e.rel_max, 4)
         .add(e.rel_p99, 4)
         .add(e.de_mean, 4)
@@ -137,8 +137,8 @@ void mark_fronts(std::vector<ChartRow>& rows) {
     }
 }
 
-moon::CsvTable speed_table(const std::vector<ChartRow>& rows) {
-    moon::CsvTable t(columns({"model", "family", "mode", "mfrag_per_s", "kernel_ms", "timed_fragments"},
+CsvTable speed_table(const std::vector<ChartRow>& rows) {
+    CsvTable t(columns({"model", "family", "mode", "mfrag_per_s", "kernel_ms", "timed_fragments"},
                              {"front_de2000_p99", "front_rel_max", "plot_de2000_p99", "plot_rel_max"}));
     for (const auto& r : rows) {
         const Score& s = r.score;
@@ -169,14 +169,14 @@ void plot_speed_accuracy(const std::string& csv, const std::string& png, const s
     s << speed_panel(csv, rows, true, "p99 Delta E 2000 over all covered pixels (< 1e-7 drawn at 1e-7)");
     s << speed_panel(csv, rows, false, "max relative error (linear values where the reference >= 1e-3; < 1e-9 drawn at 1e-9)");
     s << "unset multiplot\n";
-    moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
+    plot::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
 }
 
-moon::CsvTable subdivision_table(std::vector<SubdivisionRow> rows) {
+CsvTable subdivision_table(std::vector<SubdivisionRow> rows) {
     std::stable_sort(rows.begin(), rows.end(), [](const SubdivisionRow& a, const SubdivisionRow& b) {
         return std::tie(a.surface, a.model, a.per_vertex, a.level) < std::tie(b.surface, b.model, b.per_vertex, b.level);
     });
-    moon::CsvTable t(columns({"surface", "reference", "level", "triangles", "vertices", "model", "evaluation", "per_vertex"},
+    CsvTable t(columns({"surface", "reference", "level", "triangles", "vertices", "model", "evaluation", "per_vertex"},
                              {"plot_de2000_p99", "plot_de2000_mean"}));
     for (const auto& r : rows) {
         t.row()
@@ -240,7 +240,7 @@ void plot_subdivision(const std::string& csv, const std::string& png, const std:
         }
     }
     s << "unset multiplot\n";
-    moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
+    plot::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
 }
 
 }  // namespace shadelab::speed

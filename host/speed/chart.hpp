@@ -1,10 +1,11 @@
-// `shadelab chart`: the tables (CSV) and pictures (PNG, drawn by gnuplot through host/moon/plot.hpp's
+// `shadelab chart`: the tables (CSV, core/csv.hpp) and pictures (PNG, drawn by gnuplot through host/plot/'s
 // run_gnuplot) of speed against accuracy, and of error against tessellation / evaluation frequency.
 #pragma once
 #include <string>
 #include <vector>
 
-#include "moon/plot.hpp"
+#include "core/csv.hpp"
+#include "plot/gnuplot.hpp"
 #include "speed/score.hpp"
 #include "speed/subdivision.hpp"
 
@@ -27,7 +28,7 @@ struct ChartRow {
 void mark_fronts(std::vector<ChartRow>& rows);
 
 // One row per model x mode, every number (see the column list in chart.cpp). No NaN/Inf (CsvTable refuses).
-moon::CsvTable speed_table(const std::vector<ChartRow>& rows);
+CsvTable speed_table(const std::vector<ChartRow>& rows);
 
 // Two panels (p99 Delta E 2000; max relative error) against Mfragments/s, log-log, precise and fast as two
 // point sets, each panel's Pareto front drawn as a line with its members labelled.
@@ -35,7 +36,7 @@ void plot_speed_accuracy(const std::string& csv, const std::string& png, const s
                          const std::string& subtitle);
 
 // Rows ordered surface, model, evaluation, level (so each plotted series is one contiguous block).
-moon::CsvTable subdivision_table(std::vector<SubdivisionRow> rows);
+CsvTable subdivision_table(std::vector<SubdivisionRow> rows);
 
 // Panels per surface: p99 Delta E 2000 (top) and mean Delta E 2000 (bottom) against the subdivision level,
 // one line per model x evaluation (per pixel solid, per vertex dashed).

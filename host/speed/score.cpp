@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
+#include "pipeline/pipeline.hpp"
 #include "raster/raster.hpp"
 #include "reference/reference.hpp"
 
@@ -17,12 +18,16 @@ ScoreView make_view(const std::string& name, const Mesh& mesh, const glm::dvec3&
     if (width < 1 || height < 1) throw Error("chart: image size must be at least 1x1");
     ScoreView v;
     v.name = name;
-    v.mesh = mesh;
     v.camera = Camera::fit(mesh.bounds(), view_from, 35.0, double(width) / height);
-    RasterOptions ro;
-    ro.width = width;
-    ro.height = height;
-    v.fragments = rasterize(v.mesh, v.camera, ro);
+    // Rasterised by the render path (host/pipeline/), as every command's images are.
+    pipeline::Job job;
+    job.meshes.push_back(pipeline::JobMesh{mesh, Material{}, false});
+    job.camera = v.camera;
+    job.width = width;
+    job.height = height;
+    pipeline::StageTimes times;
+    v.fragments = pipeline::raster(job, times).fb;
+    v.mesh = std::move(job.meshes.front().mesh);
     if (v.fragments.empty())
         throw Error("chart: the mesh '" + name + "' covers no pixel at " + std::to_string(width) + "x" +
                     std::to_string(height) + ": use a larger --size");

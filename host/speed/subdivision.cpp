@@ -15,6 +15,7 @@
 #include "color/image_compare.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
+#include "pipeline/pipeline.hpp"
 #include "raster/raster.hpp"
 #include "reference/reference.hpp"
 #include "shade/gouraud.hpp"
@@ -31,17 +32,33 @@ using OMesh = OpenMesh::TriMesh_ArrayKernelT<DoubleTraits>;
 
 const glm::dvec4 kTransparent{0.0, 0.0, 0.0, 0.0};
 
-// The kernel's image of `fb` (a rasterisation of `mesh`): per pixel, or per vertex then interpolated.
-Image kernel_render(Shader& shader, const Mesh& mesh, const FragmentBuffer& fb, const Material& m,
-                    const Camera& cam, bool per_vertex, const SubdivisionOptions& o) {
-    ShadeSetup s;
-    s.material = m;
-    s.lights = o.lights;
-    s.ambient = o.ambient;
-    s.view = glm::dvec4(cam.eye, 1.0);
-    s.precision = Precision::Precise;
-    const auto planes = per_vertex ? interpolate_to_fragments(fb, mesh, shade_vertices(shader, mesh, s)) : shader.shade(fb, s);
-    return compose_image(fb, planes, kTransparent);
+// One mesh seen by the chart's camera, as a job of the render path (host/pipeline/), rasterised once.
+struct View {
+    pipeline::Job job;
+    pipeline::Frame frame;
+};
+
+View subdivision_view(Mesh mesh, const Camera& cam, const SubdivisionOptions& o) {
+    View v;
+    v.job.meshes.push_back(pipeline::JobMesh{std::move(mesh), Material{}, false});
+    v.job.camera = cam;
+    v.job.width = o.width;
+    v.job.height = o.height;
+    v.job.lights = o.lights;
+    v.job.ambient = o.ambient;
+    v.job.background = kTransparent;
+    v.job.precision = Precision::Precise;
+    pipeline::StageTimes times;
+    v.frame = pipeline::raster(v.job, times);
+    return v;
+}
+
+// The kernel's image of a view: per pixel, or per vertex then interpolated.
+Image kernel_render(Shader& shader, View& v, const Material& m, bool per_vertex) {
+    v.job.meshes.front().material = m;
+    v.job.per_vertex = per_vertex;
+    pipeline::StageTimes times;
+    return pipeline::compose(v.job, v.frame, pipeline::shade(shader, v.job, v.frame, times), times);
 }
 
 // The exact unit sphere at the origin, ray-cast through every pixel centre, shaded in double.
@@ -128,19 +145,16 @@ std::vector<SubdivisionRow> sphere_subdivision(Runtime& rt, const std::vector<st
     unit.lo = glm::dvec3(-1.0);
     unit.hi = glm::dvec3(1.0);
     const Camera cam = Camera::fit(unit, o.view_from, 35.0, double(o.width) / o.height);
-    RasterOptions ro;
-    ro.width = o.width;
-    ro.height = o.height;
     std::vector<SubdivisionRow> rows;
     for (const auto& name : models) {
         const Material m = chart_material(name);
         const Image truth = exact_sphere_image(cam, m, o);
         for (int level : levels) {
-            const Mesh sphere = make_icosphere(level);
-            const FragmentBuffer fb = rasterize(sphere, cam, ro);
+            View v = subdivision_view(make_icosphere(level), cam, o);
             for (bool pv : {false, true}) {
-                const Image k = kernel_render(shader, sphere, fb, m, cam, pv, o);
-                rows.push_back(row_for("icosphere", "exact sphere", level, sphere, name, pv, compare_images(k, truth, o.rel_floor)));
+                const Image k = kernel_render(shader, v, m, pv);
+                rows.push_back(row_for("icosphere", "exact sphere", level, v.job.meshes.front().mesh, name, pv,
+                                       compare_images(k, truth, o.rel_floor)));
             }
         }
     }
@@ -157,20 +171,17 @@ std::vector<SubdivisionRow> mesh_subdivision(Runtime& rt, const std::string& sur
     ro.height = o.height;
     const Mesh finest = loop_subdivide(mesh, reference_level);
     const FragmentBuffer ref_fb = rasterize(finest, cam, ro);
-    std::vector<Mesh> meshes;
-    std::vector<FragmentBuffer> fbs;
-    for (int level : levels) {
-        meshes.push_back(level == reference_level ? finest : loop_subdivide(mesh, level));
-        fbs.push_back(rasterize(meshes.back(), cam, ro));
-    }
+    std::vector<View> views;
+    for (int level : levels) views.push_back(subdivision_view(level == reference_level ? finest : loop_subdivide(mesh, level), cam, o));
     std::vector<SubdivisionRow> rows;
     for (const auto& name : models) {
         const Material m = chart_material(name);
         const Image truth = compose_image(ref_fb, ref::shade_fragments(ref_fb, m, o.lights, o.ambient, cam.eye), kTransparent);
         for (std::size_t i = 0; i < levels.size(); ++i)
             for (bool pv : {false, true}) {
-                const Image k = kernel_render(shader, meshes[i], fbs[i], m, cam, pv, o);
-                rows.push_back(row_for(surface, "Loop level " + std::to_string(reference_level), levels[i], meshes[i], name, pv, compare_images(k, truth, o.rel_floor)));
+                const Image k = kernel_render(shader, views[i], m, pv);
+                rows.push_back(row_for(surface, "Loop level " + std::to_string(reference_level), levels[i],
+                                       views[i].job.meshes.front().mesh, name, pv, compare_images(k, truth, o.rel_floor)));
             }
     }
     return rows;

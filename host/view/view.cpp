@@ -8,7 +8,8 @@
 #include "core/error.hpp"
 #include "image/image.hpp"
 #include "moon/disc.hpp"
-#include "moon/plot.hpp"
+#include "core/csv.hpp"
+#include "plot/gnuplot.hpp"
 #include "reference/reference.hpp"
 
 namespace shadelab::view {
@@ -39,7 +40,7 @@ std::string col(std::size_t i) { return "m" + std::to_string(i); }
 void polar(const std::vector<ViewModel>& ms, const std::string& dir, const ViewOptions& o, ViewFiles& f) {
     std::vector<std::string> cols{"theta_i", "theta_r"};
     for (std::size_t i = 0; i < ms.size(); ++i) cols.push_back(col(i));
-    moon::CsvTable t(cols);
+    CsvTable t(cols);
     double rmax = 0.0;
     for (double ti : o.incidence_deg) {
         const dvec3 L = in_plane(-ti);
@@ -58,25 +59,25 @@ void polar(const std::vector<ViewModel>& ms, const std::string& dir, const ViewO
     f.written.push_back(csv);
     std::ostringstream s;
     const int panels = int(o.incidence_deg.size());
-    s << moon::gnuplot_preamble(png, 420 * panels, 460, 10)
+    s << plot::gnuplot_preamble(png, 420 * panels, 460, 10)
       << "set multiplot layout 1," << panels << " title 'pi f_r in the incidence plane (light from the left; "
       << "radius = value / NoL; 1 = Lambert)'\nset size ratio -1\nset key top right font ',8'\n"
-      << "set xrange [-" << moon::gp_number(rmax * 1.05) << ":" << moon::gp_number(rmax * 1.05) << "]\n"
-      << "set yrange [0:" << moon::gp_number(rmax * 1.05) << "]\n";
+      << "set xrange [-" << plot::gp_number(rmax * 1.05) << ":" << plot::gp_number(rmax * 1.05) << "]\n"
+      << "set yrange [0:" << plot::gp_number(rmax * 1.05) << "]\n";
     for (double ti : o.incidence_deg) {
-        s << "set title 'theta_i = " << moon::gp_number(ti) << " deg'\nplot ";
+        s << "set title 'theta_i = " << plot::gp_number(ti) << " deg'\nplot ";
         for (std::size_t i = 0; i < ms.size(); ++i) {
-            const std::string c = "column('" + col(i) + "')", sel = "(column('theta_i') == " + moon::gp_number(ti) + ")";
-            s << (i ? ", " : "") << moon::gp_string(csv) << " using (" << sel << " ? " << c
+            const std::string c = "column('" + col(i) + "')", sel = "(column('theta_i') == " + plot::gp_number(ti) + ")";
+            s << (i ? ", " : "") << plot::gp_string(csv) << " using (" << sel << " ? " << c
               << " * sin(column('theta_r') * pi / 180) : 1/0):(" << sel << " ? " << c
-              << " * cos(column('theta_r') * pi / 180) : 1/0) with lines lw 2 title " << moon::gp_string(ms[i].label) << " noenhanced";
+              << " * cos(column('theta_r') * pi / 180) : 1/0) with lines lw 2 title " << plot::gp_string(ms[i].label) << " noenhanced";
         }
-        s << ", " << "'+' using (-sin(" << moon::gp_number(ti) << " * pi / 180) * " << moon::gp_number(rmax * 0.95)
-          << "):(cos(" << moon::gp_number(ti) << " * pi / 180) * " << moon::gp_number(rmax * 0.95)
+        s << ", " << "'+' using (-sin(" << plot::gp_number(ti) << " * pi / 180) * " << plot::gp_number(rmax * 0.95)
+          << "):(cos(" << plot::gp_number(ti) << " * pi / 180) * " << plot::gp_number(rmax * 0.95)
           << ") with points pt 7 ps 1.5 lc rgb '#e0a000' title 'light'\n";
     }
     s << "unset multiplot\n";
-    moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
+    plot::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
     f.written.push_back(png);
 }
 
@@ -98,7 +99,7 @@ double directional_albedo(const Material& m, double theta_i_deg, int q) {
 void albedo(const std::vector<ViewModel>& ms, const std::string& dir, const ViewOptions& o, ViewFiles& f) {
     std::vector<std::string> cols{"theta_i"};
     for (std::size_t i = 0; i < ms.size(); ++i) cols.push_back(col(i));
-    moon::CsvTable t(cols);
+    CsvTable t(cols);
     for (int s = 0; s < o.albedo_steps; ++s) {
         const double ti = 89.0 * s / (o.albedo_steps - 1);
         t.row().add(ti);
@@ -108,14 +109,14 @@ void albedo(const std::vector<ViewModel>& ms, const std::string& dir, const View
     t.write(csv);
     f.written.push_back(csv);
     std::ostringstream s;
-    s << moon::gnuplot_preamble(png, 800, 500, 11)
+    s << plot::gnuplot_preamble(png, 800, 500, 11)
       << "set title 'directional albedo (albedo 1)'\nset xlabel 'theta_i (deg)'\nset ylabel 'rho'\n"
       << "set xrange [0:90]\nset yrange [0:*]\nset key bottom left\nplot ";
     for (std::size_t i = 0; i < ms.size(); ++i)
-        s << (i ? ", " : "") << moon::gp_string(csv) << " using 'theta_i':'" << col(i) << "' with lines lw 2 title "
-          << moon::gp_string(ms[i].label) << " noenhanced";
+        s << (i ? ", " : "") << plot::gp_string(csv) << " using 'theta_i':'" << col(i) << "' with lines lw 2 title "
+          << plot::gp_string(ms[i].label) << " noenhanced";
     s << "\n";
-    moon::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
+    plot::run_gnuplot(s.str(), png, "the CSV " + csv + " was written");
     f.written.push_back(png);
 }
 
@@ -133,7 +134,7 @@ void slices(const std::vector<ViewModel>& ms, const std::string& dir, const View
     std::vector<std::string> csvs;
     double vmax = 0.0;
     for (std::size_t i = 0; i < ms.size(); ++i) {
-        moon::CsvTable t({"theta_h", "theta_d", "value"});
+        CsvTable t({"theta_h", "theta_d", "value"});
         for (int a = 0; a < n; ++a)
             for (int b = 0; b < n; ++b) {
                 const double th = 90.0 * (a + 0.5) / n, td = 90.0 * (b + 0.5) / n;
@@ -149,17 +150,17 @@ void slices(const std::vector<ViewModel>& ms, const std::string& dir, const View
     }
     const std::string png = (fs::path(dir) / "slices.png").string();
     std::ostringstream s;
-    s << moon::gnuplot_preamble(png, 380 * int(ms.size()) + 80, 420, 10)
+    s << plot::gnuplot_preamble(png, 380 * int(ms.size()) + 80, 420, 10)
       << "set multiplot layout 1," << ms.size() << " title 'pi f_r over theta_h x theta_d (phi_d = "
-      << moon::gp_number(o.slice_phi_d_deg) << " deg; log scale)'\n"
+      << plot::gp_number(o.slice_phi_d_deg) << " deg; log scale)'\n"
       << "set size ratio 1\nset xrange [0:90]\nset yrange [0:90]\nset xlabel 'theta_h'\nset ylabel 'theta_d'\n"
-      << "set logscale cb\nset cbrange [" << moon::gp_number(std::max(vmax * 1e-3, 1e-6)) << ":"
-      << moon::gp_number(std::max(vmax, 2e-6)) << "]\nset palette rgb 33,13,10\nunset key\n";
+      << "set logscale cb\nset cbrange [" << plot::gp_number(std::max(vmax * 1e-3, 1e-6)) << ":"
+      << plot::gp_number(std::max(vmax, 2e-6)) << "]\nset palette rgb 33,13,10\nunset key\n";
     for (std::size_t i = 0; i < ms.size(); ++i)
-        s << "set title " << moon::gp_string(ms[i].label) << " noenhanced\nplot " << moon::gp_string(csvs[i])
+        s << "set title " << plot::gp_string(ms[i].label) << " noenhanced\nplot " << plot::gp_string(csvs[i])
           << " using 'theta_h':'theta_d':(column('value') > 0 ? column('value') : 1/0) with image\n";
     s << "unset multiplot\n";
-    moon::run_gnuplot(s.str(), png, "the CSVs slice_*.csv were written");
+    plot::run_gnuplot(s.str(), png, "the CSVs slice_*.csv were written");
     f.written.push_back(png);
 }
 
@@ -196,7 +197,7 @@ ViewFiles write_views(Runtime& rt, const std::vector<ViewModel>& models, const s
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create the output folder '" + dir + "': " + ec.message() + ": choose a writable folder");
-    moon::find_gnuplot();   // before any work
+    plot::find_gnuplot();   // before any work
     ViewFiles f;
     polar(models, dir, o, f);
     albedo(models, dir, o, f);

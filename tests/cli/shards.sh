@@ -19,7 +19,7 @@ import json, os, subprocess, sys
 tmp = sys.argv[1]
 one = json.load(open(tmp + "/one/batch_report.json"))
 four = json.load(open(tmp + "/four/merged.json"))
-timing = {"load_ms", "raster_ms", "build_ms", "kernel_ms", "shade_ms", "write_ms", "mfrag_per_s"}
+timing = {"load_ms", "raster_ms", "build_ms", "kernel_ms", "shade_ms", "resolve_ms", "write_ms", "mfrag_per_s"}
 def job(j, out):
     d = {k: v for k, v in j.items() if k not in timing}
     d["outputs"] = [os.path.relpath(o, out) for o in j["outputs"]]
