@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdlib>
 #include <sstream>
 
@@ -344,6 +345,23 @@ void check_geometry(const Geometry& g, const std::string& where) {
 
 // ---- evaluation ------------------------------------------------------------------------------------------
 
+// ISIS continues an empirical table's natural spline beyond its last phase, where a steep table can run away
+// (K -> -60 makes mu^(K-1) overflow): a value the float kernel cannot hold is refused, naming the row, the
+// parameter the spline gives there and the table's range, never written as a number.
+static void check_empirical_finite(const Law& law, const std::vector<Geometry>& rows) {
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+        const double v = evaluate_reference(law, rows[r]);
+        if (std::isfinite(v) && std::fabs(v) <= double(std::numeric_limits<float>::max())) continue;
+        const Geometry& g = rows[r];
+        throw Error("row " + std::to_string(r + 1) + " (phase " + num(g.phase) + " deg): the " +
+                    (law.empirical == 1 ? std::string("MinnaertEmpirical law is not finite: K = ")
+                                        : std::string("LunarLambertEmpirical law is not finite: L = ")) +
+                    num(law.param_of_phase(g.phase)) + ", B = " + num(law.brightness_of_phase(g.phase)) +
+                    " from the tables' spline, which are given for phases " + num(law.phases.front()) + " to " +
+                    num(law.phases.back()) + " deg: extend PhaseList and its tables to cover this phase");
+    }
+}
+
 PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::size_t first, std::size_t n,
                      std::size_t padded) {
     PhoArrays p;
@@ -387,6 +405,7 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
 std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows, Precision precision,
                              bool raw) {
     for (std::size_t r = 0; r < rows.size(); ++r) check_geometry(rows[r], "row " + std::to_string(r + 1));
+    if (law.empirical) check_empirical_finite(law, rows);
     std::vector<double> result(rows.size(), 0.0);
     if (rows.empty()) return result;
     try {
