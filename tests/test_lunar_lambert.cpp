@@ -134,7 +134,7 @@ TEST_CASE("lommel_seeliger and lunar_lambert: kernel within 2e-6 of the referenc
     }
 }
 
-TEST_CASE("lunar_lambert: L = 0 is Lambert, L = 1 is Lommel-Seeliger; both laws reciprocal (value / NoL symmetric)",
+TEST_CASE("lunar_lambert: L = 0 is Lambert, L = 1 is Lommel-Seeliger, and both laws are reciprocal (value / NoL symmetric)",
           "[lunar_lambert]") {
     std::mt19937_64 gen(11);
     const Material lam = test::material("lambert", {}, glm::dvec3(1.0));
