@@ -3,30 +3,11 @@
 # "did you mean" for subcommands, flags and model names, models --json / models NAME, defaults that work
 # outside the source tree. Usage: conventions.sh SHADELAB_BINARY
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/expect.sh"   # fails, passes, expect
 bin="$1"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"   # outside the source tree on purpose
-fails=0
-passes=0
-
-# expect NAME CODE REGEX -- command...: exit code CODE and REGEX (grep -E) somewhere in stdout+stderr.
-expect() {
-    local name="$1" code="$2" regex="$3"
-    shift 4
-    local out rc
-    out="$("$@" 2>&1)"
-    rc=$?
-    if [ "$rc" -ne "$code" ]; then
-        echo "FAIL $name: exit $rc, expected $code; output: $out"
-        fails=$((fails + 1))
-    elif ! grep -Eq -- "$regex" <<<"$out"; then
-        echo "FAIL $name: output does not match /$regex/: $out"
-        fails=$((fails + 1))
-    else
-        passes=$((passes + 1))
-    fi
-}
 
 expect version 0 '^shadelab [0-9]+\.[0-9]+\.[0-9]+$' -- "$bin" --version
 expect mistyped_subcommand 2 "unknown command 'rendr' \(did you mean 'render'\?\)" -- "$bin" rendr

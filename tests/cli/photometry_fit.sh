@@ -4,30 +4,11 @@
 # input refused with one line and exit 1.
 # Usage: photometry_fit.sh SHADELAB_BINARY
 set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/expect.sh"   # fails, passes, expect
 bin="$1"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-fails=0
-passes=0
-
-# expect NAME CODE REGEX -- command...: exit code CODE and REGEX (grep -E) somewhere in stdout+stderr.
-expect() {
-    local name="$1" code="$2" regex="$3"
-    shift 4
-    local out rc
-    out="$("$@" 2>&1)"
-    rc=$?
-    if [ "$rc" -ne "$code" ]; then
-        echo "FAIL $name: exit $rc, expected $code; output: $out"
-        fails=$((fails + 1))
-    elif ! grep -Eq -- "$regex" <<<"$out"; then
-        echo "FAIL $name: output does not match /$regex/: $out"
-        fails=$((fails + 1))
-    else
-        passes=$((passes + 1))
-    fi
-}
 
 hapke=(-m hapke_hen -p wh=0.25 -p b0=1.2 -p hh=0.08 -p theta=18 -p hg1=0.25)
 for g in 2 12 40 80; do
