@@ -39,22 +39,28 @@ struct EvalArgs {
     bool reference = false;
 };
 
-photometry::Law law_from_args(const EvalArgs& a) {
-    if (a.pvl.empty() == a.model.empty())
+photometry::Law law_named(const std::string& pvl, const std::string& model, const std::vector<std::string>& params) {
+    if (pvl.empty() == model.empty())
         throw Error("photometry eval: give the law either as --pvl FILE (ISIS's PhotometricModel form) or as --model NAME");
-    if (!a.pvl.empty()) {
-        if (!a.params.empty()) throw Error("photometry eval: -p/--param goes with --model, not with --pvl");
-        return photometry::law_from_pvl_file(a.pvl);
+    if (!pvl.empty()) {
+        if (!params.empty()) throw Error("photometry eval: -p/--param goes with --model, not with --pvl");
+        return photometry::law_from_pvl_file(pvl);
     }
     std::map<std::string, double> p;
-    for (const auto& s : a.params) p.insert(parse_param(s));
-    return photometry::law_from_model(a.model, p);
+    for (const auto& s : params) p.insert(parse_param(s));
+    return photometry::law_from_model(model, p);
+}
+
+// The law the command line names (--pvl FILE, or --model NAME with -p), its warnings printed once here.
+photometry::Law law_from_args(const std::string& pvl, const std::string& model, const std::vector<std::string>& params) {
+    photometry::Law law = law_named(pvl, model, params);
+    for (const auto& w : law.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    return law;
 }
 
 void run_eval(const EvalArgs& a) {
-    const photometry::Law law = law_from_args(a);
+    const photometry::Law law = law_from_args(a.pvl, a.model, a.params);
     const Precision precision = parse_precision(a.precision);
-    for (const auto& w : law.warnings) std::cerr << "shadelab: warning: " << w << "\n";
     const bool single = !std::isnan(a.phase) || !std::isnan(a.incidence) || !std::isnan(a.emission);
     if (single == !a.csv.empty())
         throw Error("photometry eval: give either --phase, --incidence and --emission (one geometry) or --csv IN.csv -o OUT.csv");
@@ -105,12 +111,7 @@ struct EmpiricalArgs {
 };
 
 void run_empirical(const EmpiricalArgs& a) {
-    EvalArgs ea;
-    ea.pvl = a.pvl;
-    ea.model = a.model;
-    ea.params = a.params;
-    const photometry::Law hapke = law_from_args(ea);
-    for (const auto& w : hapke.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    const photometry::Law hapke = law_from_args(a.pvl, a.model, a.params);
     photometry::EmpiricalOptions o = a.o;
     if (a.law == "lunar_lambert" || a.law == "lunarlambert") o.law = 2;
     else if (a.law == "minnaert") o.law = 1;
@@ -139,12 +140,7 @@ struct NormalizeArgs {
 };
 
 void run_normalize(const NormalizeArgs& a) {
-    EvalArgs ea;
-    ea.pvl = a.pvl;
-    ea.model = a.model;
-    ea.params = a.params;
-    const photometry::Law law = law_from_args(ea);
-    for (const auto& w : law.warnings) std::cerr << "shadelab: warning: " << w << "\n";
+    const photometry::Law law = law_from_args(a.pvl, a.model, a.params);
     photometry::check_normalize_options(a.o);
     if (a.out.empty()) throw Error("photometry normalize: give the output image with -o OUT.exr");
     const Image img = read_image(a.image);
