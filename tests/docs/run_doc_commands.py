@@ -26,7 +26,6 @@ Not run, and listed in the output with the reason:
 """
 import os
 import re
-import shlex
 import subprocess
 import sys
 import tempfile
