@@ -23,10 +23,13 @@
 
 namespace shadelab::test {
 
-// The folders the build names: example scenes, bundled meshes, test data.
-inline const std::string kScenes = std::string(SHADELAB_SOURCE_DIR) + "/scenes";
-inline const std::string kMeshes = SHADELAB_MESH_DIR;
-inline const std::string kData = SHADELAB_TEST_DATA_DIR;
+// The folders the build names: the source tree, example scenes, bundled meshes, test data. Defined in
+// tests/paths.cpp, the one test file compiled with the build's paths, so that the other test files do not
+// depend on where the tree is (a compiler cache then shares them between checkouts).
+extern const std::string kSourceDir;
+extern const std::string kScenes;
+extern const std::string kMeshes;
+extern const std::string kData;
 
 // The OpenCL runtime every test shares (one context and one program cache per test process).
 inline Runtime& runtime() {

@@ -195,7 +195,7 @@ TEST_CASE("models flagged energy-conserving have directional albedo <= 1 (white 
 // the catalogue does not have. The index is written by hand and kept true by this test.
 TEST_CASE("the docs index lists every registered family with its models and its page", "[catalogue][docs]") {
     namespace fs = std::filesystem;
-    const fs::path index = fs::path(SHADELAB_SOURCE_DIR) / "docs" / "models" / "README.md";
+    const fs::path index = fs::path(test::kSourceDir) / "docs" / "models" / "README.md";
     std::ifstream in(index);
     REQUIRE(in);
     struct Row { std::vector<std::string> models; std::string page; };
@@ -222,7 +222,7 @@ TEST_CASE("the docs index lists every registered family with its models and its 
         std::vector<std::string> names;
         for (const auto& m : f.models) names.push_back(m.name);
         CHECK(r.models == names);
-        CHECK(fs::exists(fs::path(SHADELAB_SOURCE_DIR) / f.doc));
+        CHECK(fs::exists(fs::path(test::kSourceDir) / f.doc));
         // The page as linked from docs/models/: the index itself says "this page" for its own section.
         const std::string rel = fs::path(f.doc).lexically_relative("docs/models").generic_string();
         if (rel == "README.md") CHECK(r.page.find("this page") != std::string::npos);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unistd.h>
 
+#include "support.hpp"
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "image/image.hpp"
@@ -212,7 +213,7 @@ TEST_CASE("subdivision chart on a real mesh: error against the finest Loop level
     o.width = o.height = 80;
     o.view_from = {0.57, 0.25, -0.82};
     o.lights = chart_lights(o.view_from);
-    const Mesh spot = load_mesh(std::string(SHADELAB_MESH_DIR) + "/spot.obj");
+    const Mesh spot = load_mesh(test::kMeshes + "/spot.obj");
     const auto rows = mesh_subdivision(rt, "spot.obj", spot, {"blinn_phong"}, {0, 1, 2}, 2, o);
     REQUIRE(rows.size() == 3 * 2);
     for (const auto& r : rows)

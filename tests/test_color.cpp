@@ -15,7 +15,7 @@
 using namespace shadelab;
 
 TEST_CASE("CIEDE2000 matches Sharma, Wu & Dalal (2005) Table 1 to 1e-4, both orders", "[color]") {
-    std::ifstream in(SHADELAB_TEST_DATA_DIR "/ciede2000_sharma2005.csv");
+    std::ifstream in(test::kData + "/ciede2000_sharma2005.csv");
     REQUIRE(in);
     std::string line;
     int pairs = 0;
@@ -75,7 +75,7 @@ TEST_CASE("Delta E is zero for equal colours, symmetric, and 76 equals the Eucli
 
 TEST_CASE("the device CIEDE2000 matches the published pairs and the host double version", "[color][kernel]") {
     Runtime& rt = test::runtime();
-    std::ifstream in(SHADELAB_TEST_DATA_DIR "/ciede2000_sharma2005.csv");
+    std::ifstream in(test::kData + "/ciede2000_sharma2005.csv");
     REQUIRE(in);
     std::vector<float> a, b;
     std::vector<double> expected;

@@ -400,7 +400,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const std::string& path
 }  // namespace
 
 TEST_CASE("fit: the fidelity atlas in the docs matches what the fit computes today", "[modelfit]") {
-    const std::string dir = std::string(SHADELAB_SOURCE_DIR) + "/docs/data/fidelity/";
+    const std::string dir = test::kSourceDir + "/docs/data/fidelity/";
     // The exact maps between Minnaert parameterisations, recovered to 1e-6 where they are exact.
     const auto maps = read_csv(dir + "minnaert_maps.csv");
     REQUIRE(maps.size() >= 5);

@@ -132,7 +132,7 @@ TEST_CASE("planner: coarser icosphere levels are tried for analytic spheres", "[
 TEST_CASE("planner: on every bundled scene the chosen plan's measured error is within tolerance", "[plan][scene]") {
     namespace fs = std::filesystem;
     std::size_t scenes = 0;
-    for (const auto& e : fs::directory_iterator(SHADELAB_SOURCE_DIR "/scenes")) {
+    for (const auto& e : fs::directory_iterator(test::kScenes)) {
         if (e.path().extension() != ".json") continue;
         const Scene s = load_scene(e.path().string());
         const SceneGeometry geo = load_scene_geometry(s, [](const std::string& p) { return load_mesh(p); });
@@ -160,7 +160,7 @@ TEST_CASE("batch --tolerance plans each job and shades with the choice, within t
     fs::remove_all(dir);
     std::ostringstream log;
     BatchOptions o;
-    o.scenes = {SHADELAB_SOURCE_DIR "/scenes/lights.json"};
+    o.scenes = {test::kScenes + "/lights.json"};
     o.progress = ProgressStyle::Quiet;
     o.log = &log;
     o.out_dir = (dir / "plain").string();

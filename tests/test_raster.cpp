@@ -14,6 +14,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "support.hpp"
 #include "core/error.hpp"
 #include "mesh/mesh.hpp"
 #include "raster/raster.hpp"
@@ -659,7 +660,7 @@ TEST_CASE("raster: near-plane clipping keeps what is in front, with the analytic
 
 TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raster]") {
     SECTION("bunny cut by the near plane, normals flipped: every fragment field and the stats, 1 vs 2 and 3 threads") {
-        const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
+        const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
         Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
         // Close enough that the near plane cuts the bunny, so clipped triangles are part of the comparison.
         cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
@@ -689,7 +690,7 @@ TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raste
     }
 
     SECTION("whole bunny: positions, normals and depth, 1 vs 2, 3 and 7 threads") {
-        const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
+        const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
         const Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
         const FragmentBuffer a = rasterize(bunny, cam, opts(256, 256, 1));
         REQUIRE(a.size() > 10000);
@@ -831,7 +832,7 @@ TEST_CASE("raster: Camera::fit frames the whole bounds for any direction and asp
     }
 
     SECTION("the teapot's bounds at aspects 1, 16:9 and 1:2") {
-        const Mesh teapot = load_mesh(SHADELAB_MESH_DIR "/teapot.obj");
+        const Mesh teapot = load_mesh(test::kMeshes + "/teapot.obj");
         for (double aspect : {1.0, 16.0 / 9.0, 0.5}) {
             const Camera cam = Camera::fit(teapot.bounds(), {0.4, 0.6, 1.0}, 30.0, aspect);
             const glm::dmat4 vp = cam.projection(aspect) * cam.view();
@@ -1094,7 +1095,7 @@ TEST_CASE("raster: coverage and triangle ids equal a brute-force per-pixel evalu
         Mesh coarse = make_icosphere(1);
         Camera close = Camera::fit(coarse.bounds(), {-0.7, 0.1, 1.0}, 50.0, 1.0);
         cases.push_back({"icosphere(1) 203x203 (wide triangles: span solving)", coarse, close, 203, 203});
-        const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
+        const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
         cases.push_back({"bunny 150x110", bunny, Camera::fit(bunny.bounds(), {0.0, 0.25, 1.0}, 35.0, 150.0 / 110.0), 150, 110});
     }
     {   // Two slanted quads crossing each other in depth.
@@ -1113,10 +1114,10 @@ TEST_CASE("raster: coverage and triangle ids equal a brute-force per-pixel evalu
 TEST_CASE("raster: coverage and triangle ids equal the brute force at 4096x4096 and 1920x1080 on 1, 2, 4 and 7 threads (binned tiles)", "[raster]") {
     // Sizes where the image holds many 128 x 64 tiles and triangles cross tile edges in both directions, and
     // thread counts above, at and below the tile rows, so that any dependence on tile or thread order shows.
-    const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
+    const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
     check_against_brute_force("bunny 4096x4096", bunny, Camera::fit(bunny.bounds(), {0.0, 0.25, 1.0}, 35.0, 1.0), 4096, 4096,
                               {1, 2, 4, 7});
-    const Mesh dragon = load_mesh(SHADELAB_MESH_DIR "/dragon_vrip_res2.ply");
+    const Mesh dragon = load_mesh(test::kMeshes + "/dragon_vrip_res2.ply");
     check_against_brute_force("dragon 1920x1080", dragon,
                               Camera::fit(dragon.bounds(), {0.3, 0.25, 1.0}, 35.0, 1920.0 / 1080.0), 1920, 1080, {1, 2, 7});
 }
@@ -1132,8 +1133,8 @@ TEST_CASE("raster: interpolated position, normal, depth and barycentrics are wit
         Camera cam;
         int w, h;
     };
-    const Mesh bunny = load_mesh(SHADELAB_MESH_DIR "/stanford-bunny.obj");
-    const Mesh spot = load_mesh(SHADELAB_MESH_DIR "/spot.obj");
+    const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
+    const Mesh spot = load_mesh(test::kMeshes + "/spot.obj");
     const Mesh sphere = make_icosphere(2);
     const std::vector<View> views = {
         {"bunny 400x300", bunny, Camera::fit(bunny.bounds(), {0.0, 0.25, 1.0}, 35.0, 400.0 / 300.0), 400, 300},
