@@ -382,6 +382,15 @@ TEST_CASE("a geometry table too big for the memory limit is refused with its siz
     set_memory_limit(0);
 }
 
+// A 28 KB sparse GeoTIFF (written by GDAL with SPARSE_OK: no tile stored) whose one band is 30000x30000:
+// read through GDAL as a band, its image (value and alpha, 7.2 GB) is checked against the limit first.
+TEST_CASE("a GeoTIFF band of 30000x30000 in a 28 KB file is refused against the memory limit", "[hostile][image]") {
+    set_memory_limit(1000000000);
+    CHECK_THROWS_WITH(read_image(kHostile + "/gtiff_sparse_30000x30000.tif[1]"),
+                      Catch::Contains("(30000x30000) would need 7.2 GB of memory, more than the limit of 1.0 GB"));
+    set_memory_limit(0);
+}
+
 TEST_CASE("EXR channels of mixed stored types (half and float) read exactly, channel by channel", "[image]") {
     // Written by OpenImageIO with channelformats half, float, half, float: R = 0.25 + x/8, G = y/4 + 1e-4
     // (1e-4 is not a half: a float channel read as half would lose it), B = 0.75, A = 1.
