@@ -150,8 +150,10 @@ double ranking_speed(Runtime& rt, const std::string& model) {
 void prebuild_search(Runtime& rt, const PlanInput& in, unsigned threads) {
     const std::vector<Light> one{Light{Light::Type::Directional, {0.5, 0.7, 1.0}, {1, 1, 1}, 1.0, 0.0}};
     std::vector<ProgramRequest> programs;
-    for (const auto& info : model_catalogue())
-        if (info.children == 0) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise));
+    const bool ranked = std::any_of(in.items.begin(), in.items.end(),
+                                    [](const PlanItem& it) { return it.material.children.empty(); });
+    for (const auto& info : model_catalogue())   // only a material without children is ranked and fitted
+        if (ranked && info.children == 0) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise));
     for (const auto& it : in.items) programs.push_back(shade_program(it.material, in.lights, Precision::Precise));
     prebuild(rt, programs, threads);
 }
