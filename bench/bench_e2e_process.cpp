@@ -22,6 +22,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "bench_util.hpp"
+#include "plan_cold.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
@@ -30,6 +31,7 @@
 #include "raster/camera.hpp"
 #include "raster/raster.hpp"
 #include "shade/shader.hpp"
+#include "shade/shade_program.hpp"
 
 using namespace shadelab;
 namespace fs = std::filesystem;
@@ -137,7 +139,8 @@ void bench_writes(Runtime& rt, const Mesh& mesh, int w, int h, int reps, const f
 
 // Builds and runs every catalogue model (precise and fast) once; prints "builds <ms> total <ms> programs <n>
 // cached <n>".
-int child_builds(int max_models) {
+// With build_threads > 0 the programs are first built on that many threads (Runtime::prebuild), then run.
+int child_builds(int max_models, int build_threads) {
     Runtime rt;
     Shader shader(rt);
     FragmentBuffer fb;
@@ -145,9 +148,9 @@ int child_builds(int max_models) {
     fb.height = 1;
     for (int i = 0; i < 4; ++i) fb.push_back(0, 0, 0, 0, 0, 1, i, 1.0f);
     const auto t0 = clock_type::now();
-    int n = 0;
+    std::vector<ShadeSetup> setups;
     for (const ModelInfo& info : model_catalogue()) {
-        if (max_models > 0 && n >= max_models) break;
+        if (max_models > 0 && int(setups.size()) >= 2 * max_models) break;
         Material m;
         m.model = info.name;
         add_demo_children(m, info);
@@ -157,10 +160,15 @@ int child_builds(int max_models) {
             s.material = m;
             s.lights.push_back(Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 1.0, 1.0}, 1.0, 0.0});
             s.precision = p;
-            shader.shade(fb, s);
+            setups.push_back(s);
         }
-        ++n;
     }
+    if (build_threads > 0) {
+        std::vector<ProgramRequest> programs;
+        for (const ShadeSetup& s : setups) programs.push_back(shade_program(s.material, s.lights, s.precision));
+        prebuild(rt, programs, unsigned(build_threads));
+    }
+    for (const ShadeSetup& s : setups) shader.shade(fb, s);
     std::printf("builds %.1f total %.1f programs %zu cached %zu rejected %zu\n", 1000.0 * rt.build_seconds(),
                 ms_since(t0), rt.programs_built(), rt.programs_from_cache(), rt.cache_entries_rejected());
     return 0;
@@ -171,9 +179,11 @@ struct BuildRun {
     std::size_t programs = 0, cached = 0;
 };
 
-BuildRun run_child(const std::string& self, const std::string& pocl_cache, const std::string& program_cache, int max_models) {
+BuildRun run_child(const std::string& self, const std::string& pocl_cache, const std::string& program_cache, int max_models,
+                   int build_threads) {
     const std::string cmd = "POCL_CACHE_DIR='" + pocl_cache + "' SHADELAB_PROGRAM_CACHE='" + program_cache + "' '" +
-                            self + "' --child-builds --build-models " + std::to_string(max_models);
+                            self + "' --child-builds --build-models " + std::to_string(max_models) +
+                            " --build-threads " + std::to_string(build_threads);
     const std::string out = run_capture(cmd);
     BuildRun r;
     std::size_t rejected = 0;
@@ -193,17 +203,21 @@ void bench_builds(const std::string& self, const fs::path& tmp, int max_models) 
     struct Step {
         const char* label;
         std::string pocl, programs;
+        int threads;   // 0: each program built when first used, one after another (the old way)
     };
+    const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     const std::vector<Step> steps = {
-        {"cold: PoCL cache empty, shadelab cache off", pocl_a, "off"},
-        {"PoCL cache warm, shadelab cache off", pocl_a, "off"},
-        {"cold: PoCL cache empty, shadelab cache empty", pocl_b, cache},
-        {"warm: shadelab cache warm (PoCL cache warm)", pocl_b, cache},
-        {"shadelab cache warm, PoCL cache empty", (tmp / "pocl-c").string(), cache},
+        {"cold: PoCL cache empty, shadelab cache off", pocl_a, "off", 0},
+        {"PoCL cache warm, shadelab cache off", pocl_a, "off", 0},
+        {"cold: PoCL cache empty, shadelab cache empty", pocl_b, cache, 0},
+        {"warm: shadelab cache warm (PoCL cache warm)", pocl_b, cache, 0},
+        {"shadelab cache warm, PoCL cache empty", (tmp / "pocl-c").string(), cache, 0},
+        {"cold, prebuilt on 1 thread", (tmp / "pocl-d").string(), "off", 1},
+        {"cold, prebuilt on every hardware thread", (tmp / "pocl-e").string(), "off", int(hw)},
     };
     double cold = 0;
     for (const Step& s : steps) {
-        const BuildRun r = run_child(self, s.pocl, s.programs, max_models);
+        const BuildRun r = run_child(self, s.pocl, s.programs, max_models, s.threads);
         if (cold == 0) cold = r.total_ms;
         std::printf("%-52s %8.0fms %8.0fms %9zu %7zu   %.2fx the cold run\n", s.label, r.build_ms, r.total_ms, r.programs,
                     r.cached, cold / r.total_ms);
@@ -228,8 +242,11 @@ void bench_meshes(const std::vector<std::string>& meshes, int reps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool smoke = false, child = false;
-    int reps = 3, build_models = 0;
+    bool smoke = false, child = false, no_planning = false;
+    std::string child_plan_scene;
+    std::vector<std::string> plan_scenes = {std::string(SHADELAB_SOURCE_DIR) + "/scenes/materials.json",
+                                            std::string(SHADELAB_SOURCE_DIR) + "/scenes/minimal.json"};
+    int reps = 3, build_models = 0, build_threads = 0;
     std::string size = "4096x4096";
     const std::string mesh_dir = std::string(SHADELAB_SOURCE_DIR) + "/meshes";
     std::vector<std::string> meshes = {mesh_dir + "/suzanne.obj", mesh_dir + "/spot.obj", mesh_dir + "/teapot.obj",
@@ -240,6 +257,11 @@ int main(int argc, char** argv) {
     app.add_option("--reps", reps, "Repetitions (best is reported)")->capture_default_str()->check(CLI::Range(1, 100));
     app.add_option("--build-models", build_models, "Build only the first N catalogue models (0 = all)")
         ->capture_default_str()->check(CLI::Range(0, 1000));
+    app.add_option("--build-threads", build_threads, "(internal) build the programs ahead on N threads")
+        ->check(CLI::Range(-1, 256));
+    app.add_option("--plan-scenes", plan_scenes, "Scenes of the planning rows")->capture_default_str();
+    app.add_flag("--no-planning", no_planning, "Skip the planning rows");
+    app.add_option("--child-plan", child_plan_scene, "(internal) plan this scene once and print the times");
     app.add_flag("--child-builds", child, "(internal) build the catalogue once and print the times");
     try {
         app.parse(argc, argv);
@@ -249,7 +271,8 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        if (child) return child_builds(build_models);
+        if (child) return child_builds(build_models, build_threads);
+        if (!child_plan_scene.empty()) return bench::child_plan(child_plan_scene, build_threads);
         int w = 0, h = 0;
         char x = 0;
         if (smoke) size = "64x64", reps = 1, build_models = 2;
@@ -262,6 +285,8 @@ int main(int argc, char** argv) {
         std::printf("OpenCL: %s\n", rt.device_description().c_str());
         bench_writes(rt, load_mesh(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
         bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
+        if (!smoke && !no_planning)
+            bench::bench_planning(run_capture, fs::canonical("/proc/self/exe").string(), tmp, plan_scenes);
         bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps);
         fs::remove_all(tmp);
         return 0;

@@ -9,7 +9,9 @@
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
+#include "reference/reference.hpp"
 #include "shade/shader.hpp"
+#include "shade/shade_program.hpp"
 #include "support.hpp"
 
 using namespace shadelab;
@@ -98,6 +100,47 @@ TEST_CASE("programs are built once per model and option set", "[runtime]") {
     CHECK(rt.programs_built() == 1);
     rt.build("shade.cl", Shader::defines_for(m, 2));
     CHECK(rt.programs_built() == 2);
+}
+
+TEST_CASE("prebuild builds each distinct program once, on several threads, and shade() then reuses it", "[runtime]") {
+    RuntimeOptions ro;
+    ro.program_cache = "off";   // every program from source: the counts below are builds, not cache loads
+    Runtime rt(ro);
+    const std::vector<Light> one{Light{Light::Type::Directional, {0, 0, 1}, {1, 1, 1}, 1.0, 0.0}};
+    std::vector<ProgramRequest> requests;
+    for (const char* model : {"lambert", "half_lambert", "lambert"})   // one twice: built once
+        requests.push_back(shade_program(resolve_material(Material{model}), one, Precision::Precise));
+    prebuild(rt, requests, 3);
+    CHECK(rt.programs_built() == 2);
+    // shade() asks for exactly the program prebuild made: no further build, and the shading is right.
+    Shader shader(rt);
+    FragmentBuffer fb;
+    fb.width = 1;
+    fb.height = 1;
+    fb.push_back(0, 0, 0, 0, 0, 1, 0, 1.0f);
+    ShadeSetup s;
+    s.material = resolve_material(Material{"lambert"});
+    s.lights = one;
+    s.view = glm::dvec4(0.0, 0.0, 3.0, 1.0);
+    const auto out = shader.shade(fb, s);
+    CHECK(rt.programs_built() == 2);
+    REQUIRE(out.size() == 3);
+    const glm::dvec3 want = ref::shade_point({0, 0, 0}, {0, 0, 1}, {0, 0, 1}, s.material, one, glm::dvec3(0.0));
+    CHECK(want.x > 0.0);
+    CHECK(out[0] == Approx(want.x).epsilon(1e-5));
+}
+
+TEST_CASE("a failing prebuild names the file once every thread has finished", "[runtime]") {
+    RuntimeOptions ro;
+    ro.program_cache = "off";
+    Runtime rt(ro);
+    std::vector<ProgramRequest> requests{{"shade.cl", {"SL_NO_SUCH_MODEL_EVAL=1"}, ""},
+                                                  {"no_such_file.cl", {}, ""}};
+    REQUIRE_THROWS_WITH(prebuild(rt, requests, 2), Catch::Contains(".cl"));
+    // The runtime is still usable: a good program builds afterwards.
+    const Material m = resolve_material(Material{});
+    rt.build("shade.cl", Shader::defines_for(m, 1));
+    CHECK(rt.programs_built() >= 1);
 }
 
 TEST_CASE("materials are validated with one clear line", "[runtime][models]") {

@@ -1,15 +1,22 @@
 #include "cl/runtime.hpp"
+#include "cl/prebuild.hpp"
 
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <future>
+#include <map>
+#include <mutex>
 #include <regex>
 #include <sstream>
+#include <thread>
 
 #include "cl/program_cache.hpp"
 #include "core/assets.hpp"
@@ -102,6 +109,57 @@ std::string Runtime::find_kernel_dir(const std::string& requested) {
                 "): set SHADELAB_KERNELS to shadelab's kernels/ folder");
 }
 
+namespace {
+
+// The device index SHADELAB_CL_DEVICE asks for (-1: none).
+int env_device_index() {
+    const std::string d = env_or("SHADELAB_CL_DEVICE", "");
+    if (d.empty()) return -1;
+    char* end = nullptr;
+    const long v = std::strtol(d.c_str(), &end, 10);
+    if (*end != '\0' || v < 0) throw Error("SHADELAB_CL_DEVICE='" + d + "' is not a device index (0, 1, ...)");
+    return int(v);
+}
+
+// The platform whose name contains `want` (lower case), else PoCL, else the first one when nothing was asked.
+cl::Platform choose_platform(const std::vector<cl::Platform>& platforms, const std::string& want) {
+    std::vector<std::string> names;
+    for (const auto& p : platforms) {
+        const std::string name = p.getInfo<CL_PLATFORM_NAME>();
+        names.push_back(name);
+        const std::string lname = lower(name);
+        if (!want.empty() ? lname.find(want) != std::string::npos
+                          : lname.find("portable computing language") != std::string::npos)
+            return p;
+    }
+    if (want.empty()) return platforms.front();   // no PoCL: take what there is
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
+    throw Error("no OpenCL platform matches '" + want + "' (platforms: " + list + "): change SHADELAB_CL_PLATFORM");
+}
+
+// Device `want` of the platform (-1: its first CPU device, else its first device).
+cl::Device choose_device(const cl::Platform& platform, int want) {
+    std::vector<cl::Device> devices;
+    try {
+        platform.getDevices(CL_DEVICE_TYPE_ALL, &devices);
+    } catch (const cl::Error& e) {
+        if (e.err() != CL_DEVICE_NOT_FOUND) throw;
+    }
+    if (devices.empty())
+        throw Error("OpenCL platform '" + platform.getInfo<CL_PLATFORM_NAME>() +
+                    "' has no devices: install pocl-opencl-icd or choose another platform");
+    if (want >= int(devices.size()))
+        throw Error("SHADELAB_CL_DEVICE=" + std::to_string(want) + " but the platform has " +
+                    std::to_string(devices.size()) + " device(s): use 0.." + std::to_string(devices.size() - 1));
+    if (want >= 0) return devices[std::size_t(want)];
+    for (const auto& d : devices)
+        if (d.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) return d;
+    return devices.front();
+}
+
+}  // namespace
+
 Runtime::Runtime(const RuntimeOptions& options) {
     kernel_dir_ = find_kernel_dir(options.kernel_dir);
     cache_dir_ = shadelab::program_cache_dir(options.program_cache);
@@ -115,61 +173,12 @@ Runtime::Runtime(const RuntimeOptions& options) {
     if (platforms.empty())
         throw Error("no OpenCL platform found: install PoCL (apt-get install pocl-opencl-icd ocl-icd-libopencl1, "
                     "or run scripts/install-deps.sh as root)");
-
     const std::string want_platform = lower(
         options.platform_substring.empty() ? env_or("SHADELAB_CL_PLATFORM", "") : options.platform_substring);
-    int want_device = options.device_index;
-    if (want_device < 0) {
-        const std::string d = env_or("SHADELAB_CL_DEVICE", "");
-        if (!d.empty()) {
-            char* end = nullptr;
-            long v = std::strtol(d.c_str(), &end, 10);
-            if (*end != '\0' || v < 0) throw Error("SHADELAB_CL_DEVICE='" + d + "' is not a device index (0, 1, ...)");
-            want_device = int(v);
-        }
-    }
-
+    const int want_device = options.device_index >= 0 ? options.device_index : env_device_index();
     try {
-        std::vector<std::string> names;
-        const cl::Platform* chosen = nullptr;
-        for (const auto& p : platforms) {
-            const std::string name = p.getInfo<CL_PLATFORM_NAME>();
-            names.push_back(name);
-            const std::string lname = lower(name);
-            if (!want_platform.empty() ? lname.find(want_platform) != std::string::npos
-                                       : lname.find("portable computing language") != std::string::npos) {
-                chosen = &p;
-                break;
-            }
-        }
-        if (!chosen && want_platform.empty()) chosen = &platforms.front();  // no PoCL: take what there is
-        if (!chosen) {
-            std::string list;
-            for (const auto& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
-            throw Error("no OpenCL platform matches '" + want_platform + "' (platforms: " + list +
-                        "): change SHADELAB_CL_PLATFORM");
-        }
-        platform_ = *chosen;
-
-        std::vector<cl::Device> devices;
-        try {
-            platform_.getDevices(CL_DEVICE_TYPE_ALL, &devices);
-        } catch (const cl::Error& e) {
-            if (e.err() != CL_DEVICE_NOT_FOUND) throw;
-        }
-        if (devices.empty())
-            throw Error("OpenCL platform '" + platform_.getInfo<CL_PLATFORM_NAME>() +
-                        "' has no devices: install pocl-opencl-icd or choose another platform");
-        if (want_device >= int(devices.size()))
-            throw Error("SHADELAB_CL_DEVICE=" + std::to_string(want_device) + " but the platform has " +
-                        std::to_string(devices.size()) + " device(s): use 0.." + std::to_string(devices.size() - 1));
-        if (want_device >= 0) {
-            device_ = devices[std::size_t(want_device)];
-        } else {
-            device_ = devices.front();
-            for (const auto& d : devices)
-                if (d.getInfo<CL_DEVICE_TYPE>() & CL_DEVICE_TYPE_CPU) { device_ = d; break; }
-        }
+        platform_ = choose_platform(platforms, want_platform);
+        device_ = choose_device(platform_, want_device);
         context_ = cl::Context(device_);
         queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE);
         device_identity_ = platform_.getInfo<CL_PLATFORM_NAME>() + "\n" + platform_.getInfo<CL_PLATFORM_VERSION>() +
@@ -244,53 +253,142 @@ std::vector<unsigned char> Runtime::binary_of(const cl::Program& program) {
     }
 }
 
-cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
-                           const std::string& extra_options) {
-    std::string options = "-cl-std=CL1.2 -I " + kernel_dir_;
+namespace {
+
+std::string build_options(const std::string& kernel_dir, const std::vector<std::string>& defines,
+                          const std::string& extra_options) {
+    std::string options = "-cl-std=CL1.2 -I " + kernel_dir;
     for (const auto& d : defines) options += " -D" + d;
     if (!extra_options.empty()) options += " " + extra_options;
-    const std::string key = main_file + "|" + options;
+    return options;
+}
 
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
-    const auto t0 = std::chrono::steady_clock::now();
-    const std::string path = (fs::path(kernel_dir_) / main_file).string();
+// Programs being built right now, per runtime and key: a thread that asks for one of them waits for its build
+// instead of building it a second time. (Here rather than in Runtime so that runtime.hpp, which most of the tree
+// includes, stays as it is.)
+std::mutex building_mutex;
+std::map<std::pair<const void*, std::string>, std::shared_future<cl::Program>> building;
 
+// What one build needs of its runtime, lent by Runtime::build (runs without the runtime's lock).
+struct BuildContext {
+    const std::string& kernel_dir;
+    const std::string& cache_dir;        // "": no program-binary cache
+    const std::string& kernel_tree;
+    const std::string& device_identity;
+    std::function<cl::Program(const std::string& path, const std::string& options)> from_source;
+    std::function<cl::Program(const std::vector<unsigned char>& binary, const std::string& options)> from_binary;
+    std::function<std::vector<unsigned char>(const cl::Program&)> binary_of;
+};
+
+struct Built {
     cl::Program program;
     std::string disk_key;
-    bool from_disk = false;
-    std::size_t loaded_bytes = 0;
-    if (!cache_dir_.empty()) {
-        if (kernel_tree_.empty()) kernel_tree_ = kernel_tree_text(kernel_dir_);
-        disk_key = program_cache_key(kernel_tree_, main_file, options, device_identity_);
+    std::size_t bytes = 0;    // binary size in the cache entry (0: none written)
+    bool from_disk = false, rejected = false;
+};
+
+// The program from the program-binary cache when it holds an entry the device accepts, else from source (and
+// stored in the cache).
+Built load_or_build(const BuildContext& c, const std::string& main_file, const std::string& options) {
+    Built b;
+    if (!c.cache_dir.empty()) {
+        b.disk_key = program_cache_key(c.kernel_tree, main_file, options, c.device_identity);
         std::vector<unsigned char> binary;
-        bool rejected = false;
         std::string why;
-        if (read_program_cache_entry(cache_dir_, disk_key, binary, rejected, why)) {
+        if (read_program_cache_entry(c.cache_dir, b.disk_key, binary, b.rejected, why)) {
             try {
-                program = build_from_binary(binary, options);
-                from_disk = true;
-                loaded_bytes = binary.size();
+                b.program = c.from_binary(binary, options);
+                b.from_disk = true;
+                b.bytes = binary.size();
+                return b;
             } catch (const cl::Error&) {
-                rejected = true;   // the driver refuses it (another PoCL build, a damaged binary): rebuild
+                b.rejected = true;   // the driver refuses it (another PoCL build, a damaged binary): rebuild
             }
         }
-        cache_rejected_ += rejected ? 1 : 0;
     }
-    if (!from_disk) {
-        program = build_from_source(path, options);
-        if (!cache_dir_.empty()) {
-            const std::vector<unsigned char> binary = binary_of(program);
-            stored_.push_back({disk_key, program, write_program_cache_entry(cache_dir_, disk_key, binary) ? binary.size() : 0});
+    b.program = c.from_source((fs::path(c.kernel_dir) / main_file).string(), options);
+    if (!c.cache_dir.empty()) {
+        const std::vector<unsigned char> binary = c.binary_of(b.program);
+        b.bytes = write_program_cache_entry(c.cache_dir, b.disk_key, binary) ? binary.size() : 0;
+    }
+    return b;
+}
+
+}  // namespace
+
+cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
+                           const std::string& extra_options) {
+    const std::string options = build_options(kernel_dir_, defines, extra_options);
+    const std::string key = main_file + "|" + options;
+    const auto slot = std::make_pair(static_cast<const void*>(this), key);
+    std::promise<cl::Program> promise;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+        if (!cache_dir_.empty() && kernel_tree_.empty()) kernel_tree_ = kernel_tree_text(kernel_dir_);
+    }
+    {
+        std::unique_lock<std::mutex> lock(building_mutex);
+        if (auto it = building.find(slot); it != building.end()) {
+            std::shared_future<cl::Program> pending = it->second;
+            lock.unlock();
+            return pending.get();   // another thread builds it (its failure is rethrown here)
         }
-    } else {
-        stored_.push_back({disk_key, program, loaded_bytes});
+        std::lock_guard<std::mutex> cached(mutex_);   // finished between the two looks?
+        if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+        building.emplace(slot, promise.get_future().share());
     }
-    ++builds_;
-    cache_hits_ += from_disk ? 1 : 0;
-    build_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    cache_.emplace(key, program);
-    return program;
+    auto done = [&] {
+        std::lock_guard<std::mutex> lock(building_mutex);
+        building.erase(slot);
+    };
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        const BuildContext c{kernel_dir_, cache_dir_, kernel_tree_, device_identity_,
+                             [this](const std::string& path, const std::string& o) { return build_from_source(path, o); },
+                             [this](const std::vector<unsigned char>& bin, const std::string& o) { return build_from_binary(bin, o); },
+                             [this](const cl::Program& p) { return binary_of(p); }};
+        const Built b = load_or_build(c, main_file, options);
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (!cache_dir_.empty()) stored_.push_back({b.disk_key, b.program, b.bytes});
+            ++builds_;
+            cache_hits_ += b.from_disk ? 1 : 0;
+            cache_rejected_ += b.rejected ? 1 : 0;
+            build_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            cache_.emplace(key, b.program);
+        }
+        done();
+        promise.set_value(b.program);
+        return b.program;
+    } catch (...) {
+        done();
+        promise.set_exception(std::current_exception());
+        throw;
+    }
+}
+
+void prebuild(Runtime& runtime, const std::vector<ProgramRequest>& requests, unsigned threads) {
+    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    threads = unsigned(std::min<std::size_t>(threads, requests.size()));
+    std::atomic<std::size_t> next{0};
+    std::mutex failure_mutex;
+    std::exception_ptr failure;
+    auto work = [&] {
+        for (std::size_t i = next++; i < requests.size(); i = next++) {
+            try {
+                runtime.build(requests[i].main_file, requests[i].defines, requests[i].extra_options);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
 }
 
 }  // namespace shadelab

@@ -80,7 +80,7 @@ FragmentBuffer fragments_of(const Frame& frame, std::size_t mi, std::vector<std:
 }
 
 std::vector<float> shade_mesh(Shader& shader, const Job& job, const JobMesh& m, const FragmentBuffer& fb,
-                              ShadeTiming& st) {
+                              ShadeTiming& st, double& interpolate_ms) {
     ShadeSetup setup;
     setup.material = m.material;
     setup.lights = job.lights;
@@ -88,8 +88,12 @@ std::vector<float> shade_mesh(Shader& shader, const Job& job, const JobMesh& m, 
     const bool orthographic = glm::length(job.view_direction) > 0.0;
     setup.view = orthographic ? glm::dvec4(job.view_direction, 0.0) : glm::dvec4(job.camera.eye, 1.0);
     setup.precision = job.precision;
-    if (job.per_vertex) return interpolate_to_fragments(fb, m.mesh, shade_vertices(shader, m.mesh, setup, &st));
-    return shader.shade(fb, setup, &st);
+    if (!job.per_vertex) return shader.shade(fb, setup, &st);
+    const auto vertex_planes = shade_vertices(shader, m.mesh, setup, &st);
+    const auto t0 = clock_type::now();
+    std::vector<float> planes = interpolate_to_fragments(fb, m.mesh, vertex_planes);
+    interpolate_ms += ms_since(t0);
+    return planes;
 }
 
 Image depth_image(const Job& job, const FragmentBuffer& fb) {
@@ -117,6 +121,7 @@ StageTimes& StageTimes::operator+=(const StageTimes& o) {
     raster_ms += o.raster_ms;
     build_ms += o.build_ms;
     kernel_ms += o.kernel_ms;
+    interpolate_ms += o.interpolate_ms;
     shade_ms += o.shade_ms;
     resolve_ms += o.resolve_ms;
     write_ms += o.write_ms;
@@ -170,7 +175,7 @@ std::vector<float> shade(Shader& shader, const Job& job, const Frame& frame, Sta
         ShadeTiming st;
         std::vector<float> part;
         try {
-            part = shade_mesh(shader, job, job.meshes[mi], whole ? frame.fb : sub, st);
+            part = shade_mesh(shader, job, job.meshes[mi], whole ? frame.fb : sub, st, times.interpolate_ms);
         } catch (const Error& e) {
             throw Error("meshes[" + std::to_string(mi) + "] (model '" + job.meshes[mi].material.model + "'): " + e.what());
         }

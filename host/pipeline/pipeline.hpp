@@ -33,6 +33,7 @@ struct StageTimes {
     double raster_ms = 0.0;
     double build_ms = 0.0;     // program builds inside shading (0 when every program was cached)
     double kernel_ms = 0.0;    // device time of the shading kernels (profiling events)
+    double interpolate_ms = 0.0;   // per vertex: interpolating the vertex colours to the fragments (host)
     double shade_ms = 0.0;     // wall time of shading: build + upload + kernel + download (+ interpolation)
     double resolve_ms = 0.0;   // composing the images and AOVs
     double write_ms = 0.0;

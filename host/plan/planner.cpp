@@ -23,11 +23,13 @@ namespace {
 
 using clock_type = std::chrono::steady_clock;
 
-// One rasterisation of every item at one size (and tessellation).
+// One rasterisation of every item at one size (and tessellation): per item a one-mesh job of the render path
+// (host/pipeline/) and its fragments, which the candidates are shaded and timed with.
 struct Frame {
     int width = 0, height = 0;
-    std::vector<Mesh> meshes;
-    std::vector<FragmentBuffer> fragments;
+    std::vector<pipeline::Job> jobs;
+    std::vector<pipeline::Frame> items;
+    const FragmentBuffer& fragments(std::size_t k) const { return items[k].fb; }
 };
 
 Frame raster_frame(const PlanInput& in, int w, int h, int level) {
@@ -40,16 +42,17 @@ Frame raster_frame(const PlanInput& in, int w, int h, int level) {
             m = make_icosphere(level);
             m.transform(it.icosphere_transform);
         }
-        // Each item rasterised on its own by the render path (host/pipeline/): the planner shades and times every
-        // item's fragments whole, then composes by depth as the render path's merge does.
+        // Each item rasterised on its own by the render path: the planner shades and times every item's
+        // fragments whole, then composes by depth as the render path's merge does.
         pipeline::Job job;
         job.meshes.push_back(pipeline::JobMesh{std::move(m), Material{}, it.cull_backfaces});
         job.camera = in.camera;
         job.width = w;
         job.height = h;
+        job.ambient = in.ambient;
         pipeline::StageTimes times;
-        f.fragments.push_back(pipeline::raster(job, times).fb);
-        f.meshes.push_back(std::move(job.meshes.front().mesh));
+        f.items.push_back(pipeline::raster(job, times));
+        f.jobs.push_back(std::move(job));
     }
     return f;
 }
@@ -58,8 +61,8 @@ Frame raster_frame(const PlanInput& in, int w, int h, int level) {
 Image compose(const Frame& f, const std::vector<std::vector<float>>& planes) {
     Image img(f.width, f.height, 4);
     std::vector<float> zbuf(std::size_t(f.width) * f.height, std::numeric_limits<float>::infinity());
-    for (std::size_t k = 0; k < f.fragments.size(); ++k) {
-        const FragmentBuffer& fb = f.fragments[k];
+    for (std::size_t k = 0; k < f.items.size(); ++k) {
+        const FragmentBuffer& fb = f.fragments(k);
         const std::size_t n = fb.size();
         for (std::size_t i = 0; i < n; ++i) {
             const std::size_t p = std::size_t(fb.pixel[i]);
@@ -74,7 +77,7 @@ Image compose(const Frame& f, const std::vector<std::vector<float>>& planes) {
 
 struct Shaded {
     std::vector<std::vector<float>> planes;
-    double time_ms = 0.0;   // kernel device time (+ host interpolation for per-vertex)
+    double time_ms = 0.0;   // the shade stage's kernel device time (+ its interpolation, per vertex)
 };
 
 // The material item k renders with under cfg: its catalogue substitute, or the requested one (or Lambert).
@@ -82,28 +85,140 @@ Material item_material(const PlanInput& in, std::size_t k, const PlanConfig& cfg
     return cfg.catalogue ? subs[k] : plan_material(in.items[k].material, cfg);
 }
 
-Shaded shade_frame(Shader& shader, const Frame& f, const PlanInput& in, const std::vector<Light>& lights,
+// Every item shaded by the render path's shade stage under cfg, timed by its StageTimes (the clock the render
+// report uses): kernel device time, plus the host interpolation of per-vertex shading.
+Shaded shade_frame(Shader& shader, Frame& f, const PlanInput& in, const std::vector<Light>& lights,
                    const PlanConfig& cfg, const std::vector<Material>& subs) {
     Shaded s;
-    for (std::size_t k = 0; k < f.fragments.size(); ++k) {
-        ShadeSetup setup;
-        setup.material = item_material(in, k, cfg, subs);
-        setup.lights = lights;
-        setup.ambient = in.ambient;
-        setup.view = glm::dvec4(in.camera.eye, 1.0);
-        setup.precision = cfg.precision;
-        ShadeTiming t;
-        if (cfg.per_vertex) {
-            const auto vp = shade_vertices(shader, f.meshes[k], setup, &t);
-            const auto t0 = clock_type::now();
-            s.planes.push_back(interpolate_to_fragments(f.fragments[k], f.meshes[k], vp));
-            s.time_ms += t.kernel_ms + std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
-        } else {
-            s.planes.push_back(shader.shade(f.fragments[k], setup, &t));
-            s.time_ms += t.kernel_ms;
-        }
+    for (std::size_t k = 0; k < f.items.size(); ++k) {
+        pipeline::Job& job = f.jobs[k];
+        job.meshes.front().material = item_material(in, k, cfg, subs);
+        job.lights = lights;
+        job.precision = cfg.precision;
+        job.per_vertex = cfg.per_vertex;
+        pipeline::StageTimes times;
+        s.planes.push_back(pipeline::shade(shader, job, f.items[k], times));
+        s.time_ms += times.kernel_ms + times.interpolate_ms;
     }
     return s;
+}
+
+// The lights that contribute to some fragment of some mesh (for its model: a wrap model lights the back side, so
+// the test is the reference itself, not NoL); the others go to plan.dropped_lights.
+void drop_silent_lights(const PlanInput& in, const Frame& full, Plan& plan) {
+    for (std::size_t j = 0; j < in.lights.size(); ++j) {
+        bool contributes = false;
+        for (std::size_t k = 0; k < full.items.size() && !contributes; ++k) {
+            const FragmentBuffer& fb = full.fragments(k);
+            for (std::size_t i = 0; i < fb.size() && !contributes; ++i) {
+                const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
+                const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(in.camera.eye - P), in.items[k].material,
+                                                      {in.lights[j]}, glm::dvec3(0.0));
+                contributes = v.x != 0.0 || v.y != 0.0 || v.z != 0.0;
+            }
+        }
+        if (contributes) plan.kept_lights.push_back(in.lights[j]);
+        else
+            plan.dropped_lights.push_back("light " + std::to_string(j + 1) +
+                                          (in.lights[j].type == Light::Type::Directional ? " (directional)" : " (point)") +
+                                          ": contributes nothing to any fragment, compiled out");
+    }
+}
+
+// The verification size (the image reduced to about opt.verify_pixels), noted in the plan.
+void choose_verify_size(const PlanInput& in, const PlanOptions& opt, Plan& plan) {
+    const double pixels = double(in.width) * in.height;
+    const double scale = pixels > opt.verify_pixels ? std::sqrt(opt.verify_pixels / pixels) : 1.0;
+    plan.verify_width = std::max(1, int(std::lround(in.width * scale)));
+    plan.verify_height = std::max(1, int(std::lround(in.height * scale)));
+    if (scale < 1.0)
+        plan.notes.push_back("errors verified at " + std::to_string(plan.verify_width) + "x" +
+                             std::to_string(plan.verify_height) + " (reduced from " + std::to_string(in.width) + "x" +
+                             std::to_string(in.height) + "); timings at full resolution");
+}
+
+Image reference_image(const PlanInput& in, const Frame& verify) {
+    std::vector<std::vector<float>> planes;
+    for (std::size_t k = 0; k < verify.items.size(); ++k)
+        planes.push_back(ref::shade_fragments(verify.fragments(k), in.items[k].material, in.lights, in.ambient,
+                                              in.camera.eye));
+    return compose(verify, planes);
+}
+
+// The catalogue search's substitutes (one per item), when asked for and possible.
+std::vector<Material> search_catalogue(Runtime& runtime, const PlanInput& in, const PlanOptions& opt, Plan& plan) {
+    std::vector<Material> subs;
+    if (!opt.catalogue) return subs;
+    if (in.lights.empty()) {
+        plan.notes.push_back("the catalogue search needs at least one light: skipped");
+        return subs;
+    }
+    plan.catalogue = plan_substitutions(runtime, in, opt);
+    plan.catalogue_searched = true;
+    for (const auto& it : plan.catalogue.items) subs.push_back(it.chosen);
+    return subs;
+}
+
+// Every combination of the dimensions that applies to the scene; the requested configuration first.
+std::vector<PlanConfig> plan_configs(const PlanInput& in, const PlanOptions& opt, const std::vector<int>& levels,
+                                     bool any_substitute) {
+    bool can_simplify = false;
+    for (const auto& it : in.items) can_simplify = can_simplify || (it.material.model != "lambert" && it.material.children.empty());
+    std::vector<PlanConfig> configs;
+    auto add_all = [&](bool simplify, bool catalogue) {
+        for (Precision p : {Precision::Precise, Precision::Fast})
+            for (bool pv : {false, true})
+                for (int l : levels)
+                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{simplify, catalogue, p, pv, l});
+    };
+    add_all(false, false);
+    if (can_simplify) add_all(true, false);
+    if (any_substitute) add_all(false, true);
+    return configs;
+}
+
+// One configuration: its error against the reference at the verification size and its full-resolution time, best
+// of at least opt.timing_repeats runs and more for small scenes (until 25 ms of shading have been timed, at most 40
+// runs), so sub-millisecond kernels are not compared on jitter.
+PlanMeasure measure_config(Shader& shader, const PlanInput& in, const PlanOptions& opt, const PlanConfig& cfg,
+                           Frame& verify, Frame& full, const Image& reference, const std::vector<Light>& lights,
+                           const std::vector<Material>& subs) {
+    PlanMeasure m;
+    m.config = cfg;
+    const Shaded v = shade_frame(shader, verify, in, lights, cfg, subs);
+    const ImageDiff d = compare_images(compose(verify, v.planes), reference, 1e-3);
+    m.de_max = d.de_max;
+    m.de_p99 = d.de_p99;
+    m.de_mean = d.de_mean;
+    m.rel_max = d.rel_max;
+    // Pixels covered by one render only (a coarser sphere's silhouette) count as full errors.
+    if (d.coverage_mismatch) { m.de_max = std::max(m.de_max, 100.0); m.rel_max = std::max(m.rel_max, 1.0); }
+    m.error = opt.metric == PlanMetric::DeltaE2000 ? m.de_max : m.rel_max;
+    m.within = m.error <= opt.tolerance;
+    double best = std::numeric_limits<double>::infinity(), spent = 0.0;
+    for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
+        const double t = shade_frame(shader, full, in, lights, cfg, subs).time_ms;
+        best = std::min(best, t);
+        spent += t;
+    }
+    m.time_ms = best;
+    return m;
+}
+
+// The requested configuration is the first candidate; the cheapest within the tolerance replaces it only for a
+// clear gain (5%): timings on a shared machine jitter, and an equal-cost change (fast mode of a model without
+// transcendental calls) is no reason to move off what was asked.
+void choose(Plan& plan) {
+    plan.requested = plan.candidates.front();
+    plan.chosen = plan.requested;
+    for (auto& m : plan.candidates) {
+        m.speedup = m.time_ms > 0.0 ? plan.requested.time_ms / m.time_ms : 1.0;
+        if (m.within && m.time_ms < 0.95 * plan.chosen.time_ms) plan.chosen = m;
+    }
+    plan.chosen.speedup = plan.chosen.time_ms > 0.0 ? plan.requested.time_ms / plan.chosen.time_ms : 1.0;
+    if (!plan.requested.within)
+        plan.notes.push_back("even the requested configuration is off the double reference by more than the tolerance "
+                             "(float rounding): the requested configuration is kept");
 }
 
 }  // namespace
@@ -136,124 +251,33 @@ Plan make_plan(Runtime& runtime, const PlanInput& in_raw, const PlanOptions& opt
     Shader shader(runtime);
     Plan plan;
 
-    // Full resolution: the fragments the timings and the light test run on.
-    const Frame full = raster_frame(in, in.width, in.height, -1);
+    // Full resolution: the fragments the timings and the light test run on; errors at the verification size.
+    Frame full = raster_frame(in, in.width, in.height, -1);
+    drop_silent_lights(in, full, plan);
+    choose_verify_size(in, opt, plan);
+    Frame verify = raster_frame(in, plan.verify_width, plan.verify_height, -1);
+    const Image reference = reference_image(in, verify);
 
-    // Lights that contribute exactly nothing to any fragment of any mesh are dropped (for this model: a
-    // wrap model lights the back side, so the horizon test is the reference itself, not NoL).
-    for (std::size_t j = 0; j < in.lights.size(); ++j) {
-        bool contributes = false;
-        for (std::size_t k = 0; k < full.fragments.size() && !contributes; ++k) {
-            const FragmentBuffer& fb = full.fragments[k];
-            for (std::size_t i = 0; i < fb.size() && !contributes; ++i) {
-                const glm::dvec3 P{fb.px[i], fb.py[i], fb.pz[i]}, N{fb.nx[i], fb.ny[i], fb.nz[i]};
-                const glm::dvec3 v = ref::shade_point(P, N, glm::normalize(in.camera.eye - P), in.items[k].material,
-                                                      {in.lights[j]}, glm::dvec3(0.0));
-                contributes = v.x != 0.0 || v.y != 0.0 || v.z != 0.0;
-            }
-        }
-        if (contributes) plan.kept_lights.push_back(in.lights[j]);
-        else
-            plan.dropped_lights.push_back("light " + std::to_string(j + 1) +
-                                          (in.lights[j].type == Light::Type::Directional ? " (directional)" : " (point)") +
-                                          ": contributes nothing to any fragment, compiled out");
-    }
-
-    // Verification renders at reduced size when the image is large.
-    const double pixels = double(in.width) * in.height;
-    const double scale = pixels > opt.verify_pixels ? std::sqrt(opt.verify_pixels / pixels) : 1.0;
-    plan.verify_width = std::max(1, int(std::lround(in.width * scale)));
-    plan.verify_height = std::max(1, int(std::lround(in.height * scale)));
-    if (scale < 1.0)
-        plan.notes.push_back("errors verified at " + std::to_string(plan.verify_width) + "x" +
-                             std::to_string(plan.verify_height) + " (reduced from " + std::to_string(in.width) + "x" +
-                             std::to_string(in.height) + "); timings at full resolution");
-    const Frame verify = raster_frame(in, plan.verify_width, plan.verify_height, -1);
-    std::vector<std::vector<float>> ref_planes;
-    for (std::size_t k = 0; k < verify.fragments.size(); ++k)
-        ref_planes.push_back(ref::shade_fragments(verify.fragments[k], in.items[k].material, in.lights, in.ambient, in.camera.eye));
-    const Image reference = compose(verify, ref_planes);
-
-    // The configurations.
-    bool can_simplify = false;
-    int sphere_level = -1;
-    for (const auto& it : in.items) {
-        can_simplify = can_simplify || (it.material.model != "lambert" && it.material.children.empty());
-        sphere_level = std::max(sphere_level, it.icosphere_level);
-    }
     // The catalogue search per material (fits, each verified and timed); its substitutes become one more
     // dimension, combined with the others and verified again below.
-    std::vector<Material> subs;
+    const std::vector<Material> subs = search_catalogue(runtime, in, opt, plan);
     bool any_substitute = false;
-    if (opt.catalogue && !in.lights.empty()) {
-        plan.catalogue = plan_substitutions(runtime, in, opt);
-        plan.catalogue_searched = true;
-        for (const auto& it : plan.catalogue.items) {
-            subs.push_back(it.chosen);
-            any_substitute = any_substitute || it.chosen.model != it.requested.model;
-        }
-    } else if (opt.catalogue) {
-        plan.notes.push_back("the catalogue search needs at least one light: skipped");
-    }
-    std::vector<PlanConfig> configs;
+    for (const auto& it : plan.catalogue.items) any_substitute = any_substitute || it.chosen.model != it.requested.model;
+    int sphere_level = -1;
+    for (const auto& it : in.items) sphere_level = std::max(sphere_level, it.icosphere_level);
     std::vector<int> levels{-1};
     for (int l = sphere_level - 1; l >= std::max(0, sphere_level - 3); --l) levels.push_back(l);
-    for (bool simplify : {false, true}) {
-        if (simplify && !can_simplify) continue;
-        for (Precision p : {Precision::Precise, Precision::Fast})
-            for (bool pv : {false, true})
-                for (int l : levels)
-                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{simplify, false, p, pv, l});
-    }
-    if (any_substitute)
-        for (Precision p : {Precision::Precise, Precision::Fast})
-            for (bool pv : {false, true})
-                for (int l : levels)
-                    if (!pv || opt.allow_per_vertex) configs.push_back(PlanConfig{false, true, p, pv, l});
-
     std::vector<Frame> full_levels, verify_levels;   // per entry of `levels`
     for (int l : levels) {
         full_levels.push_back(l < 0 ? full : raster_frame(in, in.width, in.height, l));
         verify_levels.push_back(l < 0 ? verify : raster_frame(in, plan.verify_width, plan.verify_height, l));
     }
-
-    for (const PlanConfig& cfg : configs) {
+    for (const PlanConfig& cfg : plan_configs(in, opt, levels, any_substitute)) {
         const std::size_t li = std::size_t(std::find(levels.begin(), levels.end(), cfg.icosphere_level) - levels.begin());
-        PlanMeasure m;
-        m.config = cfg;
-        const Shaded v = shade_frame(shader, verify_levels[li], in, plan.kept_lights, cfg, subs);
-        const ImageDiff d = compare_images(compose(verify_levels[li], v.planes), reference, 1e-3);
-        m.de_max = d.de_max;
-        m.de_p99 = d.de_p99;
-        m.de_mean = d.de_mean;
-        m.rel_max = d.rel_max;
-        // Pixels covered by one render only (a coarser sphere's silhouette) count as full errors.
-        if (d.coverage_mismatch) { m.de_max = std::max(m.de_max, 100.0); m.rel_max = std::max(m.rel_max, 1.0); }
-        m.error = opt.metric == PlanMetric::DeltaE2000 ? m.de_max : m.rel_max;
-        m.within = m.error <= opt.tolerance;
-        // Best of at least `timing_repeats` runs, and more for small scenes (until 25 ms of shading have
-        // been timed, at most 40 runs), so sub-millisecond kernels are not compared on jitter.
-        double best = std::numeric_limits<double>::infinity(), spent = 0.0;
-        for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
-            const double t = shade_frame(shader, full_levels[li], in, plan.kept_lights, cfg, subs).time_ms;
-            best = std::min(best, t);
-            spent += t;
-        }
-        m.time_ms = best;
-        plan.candidates.push_back(m);
+        plan.candidates.push_back(measure_config(shader, in, opt, cfg, verify_levels[li], full_levels[li], reference,
+                                                 plan.kept_lights, subs));
     }
-    plan.requested = plan.candidates.front();   // as requested, precise, per pixel, requested tessellation
-    plan.chosen = plan.requested;
-    for (auto& m : plan.candidates) {
-        m.speedup = m.time_ms > 0.0 ? plan.requested.time_ms / m.time_ms : 1.0;
-        // Switch only for a clear gain (5%): timings on a shared machine jitter, and an equal-cost change
-        // (fast mode of a model without transcendental calls) is no reason to move off what was asked.
-        if (m.within && m.time_ms < 0.95 * plan.chosen.time_ms) plan.chosen = m;
-    }
-    plan.chosen.speedup = plan.chosen.time_ms > 0.0 ? plan.requested.time_ms / plan.chosen.time_ms : 1.0;
-    if (!plan.requested.within)
-        plan.notes.push_back("even the requested configuration is off the double reference by more than the tolerance "
-                             "(float rounding): the requested configuration is kept");
+    choose(plan);
     for (std::size_t k = 0; k < in.items.size(); ++k) plan.materials.push_back(item_material(in, k, plan.chosen.config, subs));
     plan.planning_ms = std::chrono::duration<double, std::milli>(clock_type::now() - t_start).count();
     return plan;
@@ -288,7 +312,8 @@ std::string format_plan(const Plan& p, const PlanOptions& opt) {
     if (p.catalogue_searched)
         s << " (catalogue search " << p.catalogue.planning_ms << " ms; verifying and timing the " << p.candidates.size()
           << " configurations the rest)";
-    s << "\n";
+    s << " against " << p.chosen.time_ms << " ms of shading the chosen configuration (" << p.requested.time_ms
+      << " ms requested), timed by the render path's shade stage\n";
     s << "(* chosen, x over tolerance; time = full-resolution shading: kernel device time, plus host interpolation for per-vertex)\n";
     return s.str();
 }

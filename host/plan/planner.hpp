@@ -50,6 +50,9 @@ struct PlanOptions {
     bool allow_per_vertex = true;    // false: per-pixel candidates only (the batch renderer's path)
     int timing_repeats = 3;          // at least N kernel timings at full resolution, more for small scenes (best kept)
     bool catalogue = false;          // also search the catalogue per material (host/plan/substitute.hpp)
+    // The catalogue search's programs built ahead, all at once, on this many threads (0: every hardware
+    // thread); -1: each built when first used, one after another (the old way, kept for bench_e2e_process).
+    int build_threads = 0;
 };
 
 struct PlanConfig {
@@ -89,9 +92,10 @@ struct SubstitutionPlan {
     bool within = false;
     double requested_ms = 0.0, chosen_ms = 0.0, speedup = 1.0;   // full-resolution shading time, best of runs
     double planning_ms = 0.0;        // the whole search (fits, verifications, timings)
-    // Where it went: ranking the catalogue by kernel speed (its programs built on first use), fitting,
+    // Where it went: building the programs ahead, ranking the catalogue by kernel speed, fitting,
     // verification (the frames rasterised, the reference, the requested and candidate renders compared),
     // full-resolution timings.
+    double build_ms = 0.0;           // building the search's programs ahead (PlanOptions::build_threads)
     double rank_ms = 0.0, fit_ms = 0.0, verify_ms = 0.0, timing_ms = 0.0;
     int verify_width = 0, verify_height = 0;
 };

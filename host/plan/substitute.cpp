@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <future>
 #include <iomanip>
 #include <limits>
 #include <map>
@@ -17,6 +18,7 @@
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
 #include "reference/reference.hpp"
+#include "shade/shade_program.hpp"
 
 namespace shadelab {
 
@@ -122,6 +124,13 @@ double ms_since(clock_type::time_point t) {
 // A model's shading-kernel speed at its catalogue defaults on this device (Mfrag/s, a 32768-fragment buffer,
 // best of 3): it only ranks the candidates (the plan's own timings are at full resolution), so it is measured
 // once per process and device and kept (a batch plans every job with the same ranking).
+Material ranking_material(const std::string& model) {
+    Material m;
+    m.model = model;
+    add_demo_children(m, find_model(model));
+    return resolve_material(m);
+}
+
 double ranking_speed(Runtime& rt, const std::string& model) {
     static std::mutex mutex;
     static std::map<std::string, double> kept;
@@ -130,42 +139,39 @@ double ranking_speed(Runtime& rt, const std::string& model) {
         std::lock_guard<std::mutex> lock(mutex);
         if (auto it = kept.find(key); it != kept.end()) return it->second;
     }
-    Material m;
-    m.model = model;
-    add_demo_children(m, find_model(model));
-    const double v = fit::measure_mfrag_per_s(rt, resolve_material(m), std::size_t(1) << 15, 3);
+    const double v = fit::measure_mfrag_per_s(rt, ranking_material(model), std::size_t(1) << 15, 3);
     std::lock_guard<std::mutex> lock(mutex);
     return kept[key] = v;
 }
 
-}  // namespace
+// The programs the search will use, built at once on every hardware thread (Runtime::prebuild) instead of one
+// after another at first use: every childless model's ranking and fit program (one directional light, precise:
+// fit::measure_mfrag_per_s and Shader::eval_batch build the same one) and each requested material's scene program.
+void prebuild_search(Runtime& rt, const PlanInput& in, unsigned threads) {
+    const std::vector<Light> one{Light{Light::Type::Directional, {0.5, 0.7, 1.0}, {1, 1, 1}, 1.0, 0.0}};
+    std::vector<ProgramRequest> programs;
+    const bool ranked = std::any_of(in.items.begin(), in.items.end(),
+                                    [](const PlanItem& it) { return it.material.children.empty(); });
+    for (const auto& info : model_catalogue())   // only a material without children is ranked and fitted
+        if (ranked && info.children == 0) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise));
+    for (const auto& it : in.items) programs.push_back(shade_program(it.material, in.lights, Precision::Precise));
+    prebuild(rt, programs, threads);
+}
 
-SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const PlanOptions& opt) {
-    const auto t0 = clock_type::now();
-    auto phase = clock_type::now();
-    if (in_raw.items.empty()) throw Error("plan: the scene has no meshes");
-    if (in_raw.lights.empty()) throw Error("plan: the catalogue search needs at least one light");
-    PlanInput in = in_raw;
-    for (auto& it : in.items) it.material = resolve_material(it.material);
+// The scene as the search sees it: the frames, the reference and the requested renders at the verification size.
+struct Search {
+    Runtime& rt;
+    const PlanOptions& opt;
+    PlanInput in;
+    Shader shader;
+    Frame verify, full;
+    Image reference;
+    std::vector<std::vector<float>> requested_planes;   // per item, at the verification size
     SubstitutionPlan plan;
-    const double pixels = double(in.width) * in.height;
-    const double scale = pixels > opt.verify_pixels ? std::sqrt(opt.verify_pixels / pixels) : 1.0;
-    plan.verify_width = std::max(1, int(std::lround(in.width * scale)));
-    plan.verify_height = std::max(1, int(std::lround(in.height * scale)));
-    const Frame verify = rasterise(in, plan.verify_width, plan.verify_height);
-    const Frame full = rasterise(in, in.width, in.height);
-    Shader shader(rt);
-    std::vector<std::vector<float>> ref_planes, requested_planes;
-    for (std::size_t k = 0; k < in.items.size(); ++k) {
-        ref_planes.push_back(ref::shade_fragments(verify.fragments[k], in.items[k].material, in.lights, in.ambient, in.camera.eye));
-        requested_planes.push_back(shade_item(shader, verify.fragments[k], in.items[k].material, in));
-    }
-    const Image reference = compose(verify, ref_planes);
-    plan.verify_ms += ms_since(phase);
+    Search(Runtime& r, const PlanInput& input, const PlanOptions& o) : rt(r), opt(o), in(input), shader(r) {}
 
-    auto speed_of = [&](const std::string& model) { return ranking_speed(rt, model); };
     // Full-resolution shading time of one mesh with material m: best of at least 3 runs and 10 ms.
-    auto time_item = [&](std::size_t k, const Material& m) {
+    double time_item(std::size_t k, const Material& m) {
         double best = std::numeric_limits<double>::infinity(), spent = 0.0;
         for (int r = 0; r < 40 && (r < 3 || spent < 10.0); ++r) {
             double ms = 0.0;
@@ -174,82 +180,9 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
             spent += ms;
         }
         return best;
-    };
-    std::vector<Material> chosen;
-    for (std::size_t k = 0; k < in.items.size(); ++k) {
-        const Material& req = in.items[k].material;
-        Substitution s;
-        s.item = k;
-        s.requested = req;
-        s.chosen = req;
-        chosen.push_back(req);
-        if (!req.children.empty()) {
-            plan.items.push_back(s);
-            continue;
-        }
-        phase = clock_type::now();
-        const double own = speed_of(req.model);
-        std::vector<std::pair<double, std::string>> cands;
-        for (const auto& info : model_catalogue())
-            if (info.children == 0 && info.name != req.model && speed_of(info.name) >= 1.1 * own)
-                cands.push_back({speed_of(info.name), info.name});
-        std::sort(cands.rbegin(), cands.rend());   // fastest first
-        plan.rank_ms += ms_since(phase);
-        fit::Domain d = item_domain(verify, k, in, 4096);
-        if (d.size() == 0) {
-            plan.items.push_back(s);
-            continue;
-        }
-        Material grey = req;   // the fit is grey: the material's mean colours
-        grey.albedo = glm::dvec3(mean3(req.albedo));
-        grey.specular = glm::dvec3(mean3(req.specular));
-        fit::Problem problem(rt, std::move(d), grey);
-        fit::FitOptions fo;
-        fo.limb_check = false;
-        fo.starts = 1;   // every candidate is verified by rendering: one refined start is enough to rank it
-        for (const auto& [sp, model] : cands) {
-            phase = clock_type::now();
-            const fit::FitResult r = fit::fit_model(problem, fit::shape_for(model, grey, -1.0, nullptr), {}, fo);
-            plan.fit_ms += ms_since(phase);
-            phase = clock_type::now();
-            ++s.tried;
-            Material sub;
-            sub.model = model;
-            for (const auto& p : r.params) sub.params[p.name] = p.value;
-            sub.albedo = req.albedo * r.scale;
-            sub.specular = req.specular * r.scale;
-            sub = resolve_material(sub);
-            auto planes = requested_planes;
-            planes[k] = shade_item(shader, verify.fragments[k], sub, in);
-            const double e = metric_of(compare_images(compose(verify, planes), reference, 1e-3), opt);
-            plan.verify_ms += ms_since(phase);
-            if (e > opt.tolerance) continue;
-            // Within the tolerance: chosen only if this mesh really shades faster at full resolution (5%: the
-            // kernels' ranking above is on a small buffer, and timings on a shared machine jitter).
-            phase = clock_type::now();
-            const double t_req = time_item(k, req), t_sub = time_item(k, sub);
-            plan.timing_ms += ms_since(phase);
-            if (!(t_sub < 0.95 * t_req)) continue;
-            s.chosen = sub;
-            s.fit_rel_rms = r.error.at("rel-rms");
-            s.error = e;
-            s.model_speedup = t_req / t_sub;
-            chosen[k] = sub;
-            break;
-        }
-        plan.items.push_back(s);
     }
-    // The combination, verified and timed at full resolution.
-    phase = clock_type::now();
-    {
-        std::vector<std::vector<float>> planes;
-        for (std::size_t k = 0; k < in.items.size(); ++k) planes.push_back(shade_item(shader, verify.fragments[k], chosen[k], in));
-        plan.error = metric_of(compare_images(compose(verify, planes), reference, 1e-3), opt);
-        plan.within = plan.error <= opt.tolerance;
-    }
-    plan.verify_ms += ms_since(phase);
-    phase = clock_type::now();
-    auto time_all = [&](const std::vector<Material>& ms) {
+    // Full-resolution shading time of every mesh with its material, best of opt.timing_repeats runs and 25 ms.
+    double time_all(const std::vector<Material>& ms) {
         double best = std::numeric_limits<double>::infinity(), spent = 0.0;
         for (int r = 0; r < 40 && (r < std::max(1, opt.timing_repeats) || spent < 25.0); ++r) {
             double total = 0.0;
@@ -262,15 +195,135 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
             spent += total;
         }
         return best;
-    };
+    }
+    // The plan metric of the scene with `planes` (per item, at the verification size) against the reference.
+    double error_of(const std::vector<std::vector<float>>& planes) const {
+        return metric_of(compare_images(compose(verify, planes), reference, 1e-3), opt);
+    }
+};
+
+// The frames, the reference and the requested renders; the search's programs meanwhile built ahead on other
+// threads (PlanOptions::build_threads), so their compilation overlaps the rasterisation and the reference.
+void prepare(Search& s) {
+    auto phase = clock_type::now();
+    std::future<double> built;
+    if (s.opt.build_threads >= 0)
+        built = std::async(std::launch::async, [&s] {
+            const auto t = clock_type::now();
+            prebuild_search(s.rt, s.in, unsigned(s.opt.build_threads));
+            return ms_since(t);
+        });
+    const double pixels = double(s.in.width) * s.in.height;
+    const double scale = pixels > s.opt.verify_pixels ? std::sqrt(s.opt.verify_pixels / pixels) : 1.0;
+    s.plan.verify_width = std::max(1, int(std::lround(s.in.width * scale)));
+    s.plan.verify_height = std::max(1, int(std::lround(s.in.height * scale)));
+    s.verify = rasterise(s.in, s.plan.verify_width, s.plan.verify_height);
+    s.full = rasterise(s.in, s.in.width, s.in.height);
+    std::vector<std::vector<float>> ref_planes;
+    for (std::size_t k = 0; k < s.in.items.size(); ++k)
+        ref_planes.push_back(ref::shade_fragments(s.verify.fragments[k], s.in.items[k].material, s.in.lights,
+                                                  s.in.ambient, s.in.camera.eye));
+    s.reference = compose(s.verify, ref_planes);
+    if (built.valid()) s.plan.build_ms = built.get();
+    for (std::size_t k = 0; k < s.in.items.size(); ++k)
+        s.requested_planes.push_back(shade_item(s.shader, s.verify.fragments[k], s.in.items[k].material, s.in));
+    s.plan.verify_ms += ms_since(phase);
+}
+
+// The childless catalogue models whose kernels run at least 10% faster than `model`'s, fastest first.
+std::vector<std::pair<double, std::string>> faster_models(Search& s, const std::string& model) {
+    const auto phase = clock_type::now();
+    const double own = ranking_speed(s.rt, model);
+    std::vector<std::pair<double, std::string>> cands;
+    for (const auto& info : model_catalogue())
+        if (info.children == 0 && info.name != model && ranking_speed(s.rt, info.name) >= 1.1 * own)
+            cands.push_back({ranking_speed(s.rt, info.name), info.name});
+    std::sort(cands.rbegin(), cands.rend());
+    s.plan.rank_ms += ms_since(phase);
+    return cands;
+}
+
+// Item k's substitute: the first of the faster models whose fit, substituted for this mesh alone, renders the
+// scene within the tolerance and shades this mesh at least 5% faster at full resolution (the ranking is on a
+// small buffer, and timings on a shared machine jitter).
+Substitution substitute_item(Search& s, std::size_t k) {
+    const Material& req = s.in.items[k].material;
+    Substitution sub;
+    sub.item = k;
+    sub.requested = req;
+    sub.chosen = req;
+    if (!req.children.empty()) return sub;
+    const auto cands = faster_models(s, req.model);
+    fit::Domain d = item_domain(s.verify, k, s.in, 4096);
+    if (d.size() == 0) return sub;
+    Material grey = req;   // the fit is grey: the material's mean colours
+    grey.albedo = glm::dvec3(mean3(req.albedo));
+    grey.specular = glm::dvec3(mean3(req.specular));
+    fit::Problem problem(s.rt, std::move(d), grey);
+    fit::FitOptions fo;
+    fo.limb_check = false;
+    fo.starts = 1;   // every candidate is verified by rendering: one refined start is enough to rank it
+    for (const auto& [speed, model] : cands) {
+        auto phase = clock_type::now();
+        const fit::FitResult r = fit::fit_model(problem, fit::shape_for(model, grey, -1.0, nullptr), {}, fo);
+        s.plan.fit_ms += ms_since(phase);
+        phase = clock_type::now();
+        ++sub.tried;
+        Material m;
+        m.model = model;
+        for (const auto& p : r.params) m.params[p.name] = p.value;
+        m.albedo = req.albedo * r.scale;
+        m.specular = req.specular * r.scale;
+        m = resolve_material(m);
+        auto planes = s.requested_planes;
+        planes[k] = shade_item(s.shader, s.verify.fragments[k], m, s.in);
+        const double e = s.error_of(planes);
+        s.plan.verify_ms += ms_since(phase);
+        if (e > s.opt.tolerance) continue;
+        phase = clock_type::now();
+        const double t_req = s.time_item(k, req), t_sub = s.time_item(k, m);
+        s.plan.timing_ms += ms_since(phase);
+        if (!(t_sub < 0.95 * t_req)) continue;
+        sub.chosen = m;
+        sub.fit_rel_rms = r.error.at("rel-rms");
+        sub.error = e;
+        sub.model_speedup = t_req / t_sub;
+        break;
+    }
+    return sub;
+}
+
+}  // namespace
+
+SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const PlanOptions& opt) {
+    const auto t0 = clock_type::now();
+    if (in_raw.items.empty()) throw Error("plan: the scene has no meshes");
+    if (in_raw.lights.empty()) throw Error("plan: the catalogue search needs at least one light");
+    Search s(rt, in_raw, opt);
+    for (auto& it : s.in.items) it.material = resolve_material(it.material);
+    prepare(s);
+    std::vector<Material> chosen;
+    for (std::size_t k = 0; k < s.in.items.size(); ++k) {
+        s.plan.items.push_back(substitute_item(s, k));
+        chosen.push_back(s.plan.items.back().chosen);
+    }
+    // The combination, verified and timed at full resolution.
+    auto phase = clock_type::now();
+    std::vector<std::vector<float>> planes;
+    for (std::size_t k = 0; k < s.in.items.size(); ++k)
+        planes.push_back(shade_item(s.shader, s.verify.fragments[k], chosen[k], s.in));
+    s.plan.error = s.error_of(planes);
+    s.plan.within = s.plan.error <= opt.tolerance;
+    s.plan.verify_ms += ms_since(phase);
+    phase = clock_type::now();
     std::vector<Material> requested;
-    for (const auto& it : in.items) requested.push_back(it.material);
-    plan.requested_ms = time_all(requested);
-    plan.chosen_ms = time_all(chosen);
-    plan.timing_ms += ms_since(phase);
-    plan.speedup = plan.chosen_ms > 0.0 ? plan.requested_ms / plan.chosen_ms : 1.0;
-    plan.planning_ms = std::chrono::duration<double, std::milli>(clock_type::now() - t0).count();
-    return plan;
+    for (const auto& it : s.in.items) requested.push_back(it.material);
+    s.plan.requested_ms = s.time_all(requested);
+    s.plan.chosen_ms = s.time_all(chosen);
+    s.plan.timing_ms += ms_since(phase);
+    s.plan.speedup = s.plan.chosen_ms > 0.0 ? s.plan.requested_ms / s.plan.chosen_ms : 1.0;
+    s.plan.planning_ms = ms_since(t0);
+    return s.plan;
 }
 
 std::string format_substitutions(const SubstitutionPlan& p, const PlanOptions& opt) {
@@ -297,7 +350,7 @@ std::string format_substitutions(const SubstitutionPlan& p, const PlanOptions& o
     }
     s << "  all together: " << metric << " " << p.error << (p.within ? " (within)" : " (OVER)") << "; shading "
       << std::setprecision(4) << p.chosen_ms << " ms against " << p.requested_ms << " ms requested: " << p.speedup
-      << "x; planning took " << p.planning_ms << " ms (ranking " << p.rank_ms << ", fits " << p.fit_ms
+      << "x; planning took " << p.planning_ms << " ms (programs " << p.build_ms << ", ranking " << p.rank_ms << ", fits " << p.fit_ms
       << ", verification " << p.verify_ms << ", timing " << p.timing_ms << ")\n";
     return s.str();
 }

@@ -1,4 +1,5 @@
 #include "shade/shader.hpp"
+#include "shade/shade_program.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -78,6 +79,16 @@ std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, 
     return d;
 }
 
+ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision) {
+    std::vector<std::string> defines = Shader::defines_for(mat, int(lights.size()), precision);
+    // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
+    // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
+    const bool all_directional =
+        std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
+    if (all_directional) defines.push_back("SL_ALL_DIRECTIONAL=1");
+    return {"shade.cl", defines, Shader::options_for(precision)};
+}
+
 std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& setup, ShadeTiming* timing) {
     const Material mat = resolve_material(setup.material);
     const std::size_t n = fb.size();
@@ -102,13 +113,8 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     std::vector<float> out(3 * padded);
     try {
         const auto t0 = clock::now();
-        std::vector<std::string> defines = defines_for(mat, int(setup.lights.size()), setup.precision);
-        // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
-        // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
-        const bool all_directional = std::all_of(setup.lights.begin(), setup.lights.end(),
-                                                 [](const Light& l) { return l.type == Light::Type::Directional; });
-        if (all_directional) defines.push_back("SL_ALL_DIRECTIONAL=1");
-        cl::Program prog = rt_.build("shade.cl", defines, options_for(setup.precision));
+        const ProgramRequest req = shade_program(mat, setup.lights, setup.precision);
+        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
         const auto t1 = clock::now();
         cl::Kernel k(prog, "shade_fragments");
         auto& ctx = rt_.context();
