@@ -4,7 +4,7 @@
 #   scripts/fuzz.sh --ctest [SECONDS]     build, make the seed corpora, run every target through ctest (label
 #                                         'fuzz'): a fixed number of inputs from a fixed -seed, capped at SECONDS
 #                                         (default 60) each, from a fresh corpus: what CI runs
-#   scripts/fuzz.sh TARGET SECONDS [JOBS] a long run of one target (mesh, scene, image, pvl or csv), JOBS
+#   scripts/fuzz.sh TARGET SECONDS [JOBS] a long run of one target (mesh, scene, image, pvl, csv or raster), JOBS
 #                                         processes (default 1); the corpus grows in build-fuzz/corpus/TARGET
 #
 # Findings (crash-*, timeout-*, oom-*, leak-*) land in build-fuzz/findings/; replay one with
@@ -21,19 +21,19 @@ fi
 mode=${1:-}
 case "$mode" in
   --ctest) seconds=${2:-60} ;;
-  mesh|scene|image|pvl|csv) seconds=${2:?"fuzz: give the seconds to run, e.g. scripts/fuzz.sh mesh 3600"}; jobs=${3:-1} ;;
+  mesh|scene|image|pvl|csv|raster) seconds=${2:?"fuzz: give the seconds to run, e.g. scripts/fuzz.sh mesh 3600"}; jobs=${3:-1} ;;
   *) sed -n '2,12p' "$0" >&2; exit 2 ;;
 esac
 
 cmake -S . -B "$B" -DSHADELAB_FUZZ=ON -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DSHADELAB_FUZZ_SECONDS="${seconds}" > "$B.log" 2>&1 || { cat "$B.log"; exit 1; }
-targets=(fuzz_mesh fuzz_scene fuzz_image fuzz_pvl fuzz_csv)
+targets=(fuzz_mesh fuzz_scene fuzz_image fuzz_pvl fuzz_csv fuzz_raster)
 [ "$mode" = --ctest ] || targets=("fuzz_$mode")
 nice cmake --build "$B" -j2 --target "${targets[@]}" >> "$B.log" 2>&1 || { tail -40 "$B.log"; echo "fuzz: build failed (see $B.log)" >&2; exit 1; }
 
 # Seed corpora from the bundled files. The mesh and image targets read a format byte first.
 rm -rf "$B/seeds"
-mkdir -p "$B/seeds/mesh" "$B/seeds/scene" "$B/seeds/image" "$B/seeds/pvl" "$B/seeds/csv"
+mkdir -p "$B/seeds/mesh" "$B/seeds/scene" "$B/seeds/image" "$B/seeds/pvl" "$B/seeds/csv" "$B/seeds/raster"
 for f in tests/data/*.* tests/data/hostile/*.* meshes/*.obj; do
   [ "$(stat -c %s "$f")" -le 65536 ] || continue   # the big meshes only slow every run down
   case "${f,,}" in
@@ -87,6 +87,12 @@ pvl lunar_lambert_empirical '    Name = LunarLambertEmpirical\n    PhaseList = (
 printf 'phase,incidence,emission\n0,0,0\n60,45,30\n180,90,90\n' > "$B/seeds/csv/plain.csv"
 printf '\357\273\277id,"Emission",value,Phase,INCIDENCE\r\na,30,9,60,45\r\n\r\nb,0.5,,1e1,2.5e1\r\n' > "$B/seeds/csv/bom_crlf_value.csv"
 printf 'incidence,phase,emission,note\n  10 , 20 ,30,x\n\n89.9,179.9,0,"y, z"\n' > "$B/seeds/csv/spaces_extra.csv"
+
+# Rasters through GDAL: an ISIS3 cube, a GeoTIFF and a PDS4 label written by GDAL's Python bindings (Debian's
+# python3, which has python3-gdal), PDS3 images with attached labels written byte by byte.
+py=python3
+python3 -c 'import osgeo' 2> /dev/null || { [ -x /usr/bin/python3 ] && py=/usr/bin/python3; }
+"$py" fuzz/make_raster_seeds.py "$B/seeds/raster"
 
 if [ "$mode" = --ctest ]; then
   (cd "$B" && ctest -L fuzz --output-on-failure)

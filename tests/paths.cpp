@@ -4,9 +4,8 @@
 
 namespace shadelab::test {
 
-extern const std::string kSourceDir = SHADELAB_SOURCE_DIR;
-extern const std::string kScenes = std::string(SHADELAB_SOURCE_DIR) + "/scenes";
-extern const std::string kMeshes = SHADELAB_MESH_DIR;
-extern const std::string kData = SHADELAB_TEST_DATA_DIR;
+std::string source_dir() { return SHADELAB_SOURCE_DIR; }
+std::string mesh_dir() { return SHADELAB_MESH_DIR; }
+std::string data_dir() { return SHADELAB_TEST_DATA_DIR; }
 
 }  // namespace shadelab::test

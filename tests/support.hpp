@@ -23,13 +23,18 @@
 
 namespace shadelab::test {
 
-// The folders the build names: the source tree, example scenes, bundled meshes, test data. Defined in
+// The folders the build names: the source tree, example scenes, bundled meshes, test data. The paths come from
 // tests/paths.cpp, the one test file compiled with the build's paths, so that the other test files do not
-// depend on where the tree is (a compiler cache then shares them between checkouts).
-extern const std::string kSourceDir;
-extern const std::string kScenes;
-extern const std::string kMeshes;
-extern const std::string kData;
+// depend on where the tree is (a compiler cache then shares them between checkouts). Functions, not variables
+// of that file: a test file's own statics built from these (kHostile = kData + ...) are then initialised after
+// them, as C++ orders the inline variables of a header before what follows them in the same file.
+std::string source_dir();
+std::string mesh_dir();
+std::string data_dir();
+inline const std::string kSourceDir = source_dir();
+inline const std::string kScenes = source_dir() + "/scenes";
+inline const std::string kMeshes = mesh_dir();
+inline const std::string kData = data_dir();
 
 // The OpenCL runtime every test shares (one context and one program cache per test process).
 inline Runtime& runtime() {

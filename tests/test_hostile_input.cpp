@@ -29,6 +29,7 @@
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/mesh_check.hpp"
+#include "photometry/csv.hpp"
 #include "photometry/pvl.hpp"
 #include "scene/batch.hpp"
 #include "scene/scene.hpp"
@@ -340,6 +341,53 @@ TEST_CASE("an EXR whose data window is 2097160 pixels wide is refused before its
     set_memory_limit(1000000000);
     CHECK_THROWS_WITH(read_image(wide), Catch::Contains("(2097160x6, decoded in chunks of 201.3 MB) would need") &&
                                             Catch::Contains("more than the limit of 1.0 GB"));
+    set_memory_limit(0);
+}
+
+// Deep EXR (several samples per pixel, OpenEXR 2's deep scanline and deep tiled parts), written by
+// `oiiotool --pattern constant:color=0.5,0.4,0.3,1,2 4x3 5 --chnames R,G,B,A,Z --deepen [--tile 2 2]`: shadelab
+// reads flat images only, and says so instead of handing OpenImageIO's deep read to code that expects a flat one.
+TEST_CASE("a deep EXR, scanline or tiled, is refused with a line that says how to flatten it", "[hostile][image]") {
+    for (const char* layout : {"scanline", "tiled"}) {
+        INFO(layout);
+        const std::string path = kHostile + "/exr_deep_" + layout + "_4x3.exr";
+        CHECK_THROWS_WITH(read_image(path), Catch::Contains("holds deep data (several samples per pixel)") &&
+                                                Catch::Contains("--flatten") && Catch::Contains(path));
+    }
+}
+
+// A geometry table is read into memory whole (each row kept to be written back with its value): its size is
+// checked against the memory limit before reading (twice the file: a single endless line is read whole) and
+// again after the first 4096 rows, from the rows' length (200 bytes a row, measured).
+TEST_CASE("a geometry table too big for the memory limit is refused with its size and estimated rows",
+          "[hostile][photometry]") {
+    const fs::path dir = test::scratch_dir("hostile_csv_memory");
+    const fs::path csv = dir / "geometry.csv";
+    {
+        std::ofstream out(csv);
+        out << "phase,incidence,emission\n";
+        for (int r = 0; r < 10000; ++r) out << "10.000,20.000,30.000\n";   // 21 bytes a row
+    }
+    const double bytes = double(fs::file_size(csv));
+    set_memory_limit(std::uint64_t(5 * bytes));   // the file fits twice, its 10000 rows (2 MB) do not
+    CHECK_THROWS_WITH(photometry::read_geometry_csv(csv.string()),
+                      Catch::Contains("geometry table '" + csv.string() + "'") && Catch::Contains("about 10000 rows") &&
+                          Catch::Contains("more than the limit") && Catch::Contains("SHADELAB_MAX_MEMORY"));
+    set_memory_limit(std::uint64_t(1.5 * bytes));   // not even the file twice: refused before a row is read
+    CHECK_THROWS_WITH(photometry::read_geometry_csv(csv.string()),
+                      Catch::Contains("geometry table '" + csv.string() + "' would need") &&
+                          !Catch::Contains("rows)"));
+    set_memory_limit(std::uint64_t(15 * bytes));   // room for the rows: read
+    CHECK(photometry::read_geometry_csv(csv.string()).geometry.size() == 10000);
+    set_memory_limit(0);
+}
+
+// A 28 KB sparse GeoTIFF (written by GDAL with SPARSE_OK: no tile stored) whose one band is 30000x30000:
+// read through GDAL as a band, its image (value and alpha, 7.2 GB) is checked against the limit first.
+TEST_CASE("a GeoTIFF band of 30000x30000 in a 28 KB file is refused against the memory limit", "[hostile][image]") {
+    set_memory_limit(1000000000);
+    CHECK_THROWS_WITH(read_image(kHostile + "/gtiff_sparse_30000x30000.tif[1]"),
+                      Catch::Contains("(30000x30000) would need 7.2 GB of memory, more than the limit of 1.0 GB"));
     set_memory_limit(0);
 }
 

@@ -13,6 +13,7 @@
 
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/limits.hpp"
 
 namespace fs = std::filesystem;
 
@@ -146,6 +147,9 @@ Image read_raster_band(const std::string& path) {
     const int w = rb->GetXSize(), h = rb->GetYSize();
     if (w < 1 || h < 1 || w > 65536 || h > 65536)
         throw Error("'" + path + "': raster size " + std::to_string(w) + "x" + std::to_string(h) + " is not supported");
+    // the image (value and alpha planes, float) and one row of doubles, before either is allocated
+    check_memory("the band of '" + path + "' (" + std::to_string(w) + "x" + std::to_string(h) + ")",
+                 double(w) * double(h) * 2.0 * sizeof(float) + double(w) * sizeof(double));
     int has_nodata = 0;
     const double nodata = rb->GetNoDataValue(&has_nodata);
     // stored value -> physical value: PDS3 SCALING_FACTOR / OFFSET, PDS4 scaling_factor / value_offset, ISIS's

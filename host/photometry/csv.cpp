@@ -4,16 +4,37 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/format.hpp"
+#include "core/limits.hpp"
 #include "core/text.hpp"
 
 namespace shadelab::photometry {
 
 namespace {
+
+// Memory a row of the table costs while it is read, evaluated and written back: the row kept as text, its
+// three angles, its value and its share of the output text, with the vectors' growth. Measured: a 41.5 MB
+// table of 2,000,000 rows (`photometry eval --csv`) peaked 394 MB above the idle process, 197 bytes a row.
+constexpr double kBytesPerRow = 200.0;
+// Rows are counted after this many; the table's row count is then estimated from the file's size.
+constexpr std::size_t kRowsToEstimate = 4096;
+
+// Refuses a table whose rows, estimated from the first ones' length and the file's size, would not fit.
+void check_table_memory(const std::string& path, std::ifstream& in, std::uintmax_t file_bytes, std::streamoff rows_start,
+                        std::size_t rows) {
+    const std::streamoff at = in.tellg();
+    if (rows == 0 || rows_start < 0 || at <= rows_start) return;
+    const double estimated_rows =
+        double(file_bytes - std::uintmax_t(rows_start)) * double(rows) / double(at - rows_start);
+    check_memory("the geometry table '" + path + "' (" + format_bytes(double(file_bytes)) + ", about " +
+                     std::to_string(std::llround(estimated_rows)) + " rows)",
+                 estimated_rows * kBytesPerRow);
+}
 
 std::string trim(std::string s) {
     s.erase(0, s.find_first_not_of(" \t\r"));
@@ -32,6 +53,10 @@ std::string unquote(std::string s) {
 GeometryTable read_geometry_csv(const std::string& path) {
     std::ifstream in(path);
     if (!in) throw Error(path + ": cannot open the geometry table");
+    std::error_code size_error;
+    const std::uintmax_t file_bytes = std::filesystem::file_size(path, size_error);
+    // A line is read whole: a file of one endless line needs its size in memory, twice as the output is made.
+    if (!size_error) check_memory("the geometry table '" + path + "'", 2.0 * double(file_bytes));
     GeometryTable t;
     std::string line;
     int lineno = 0;
@@ -58,6 +83,7 @@ GeometryTable read_geometry_csv(const std::string& path) {
     // The fields are found by scanning for commas and the three angle fields parsed in place (millions of rows:
     // no per-field strings).
     const std::size_t need = std::max({col[0], col[1], col[2]});
+    const std::streamoff rows_start = in.tellg();
     std::vector<std::pair<std::size_t, std::size_t>> spans;   // [begin, end) of each field
     while (std::getline(in, line)) {
         ++lineno;
@@ -87,6 +113,8 @@ GeometryTable read_geometry_csv(const std::string& path) {
         check_geometry(g, where);
         t.geometry.push_back(g);
         t.rows.push_back(std::move(line));
+        if (t.rows.size() == kRowsToEstimate && !size_error)
+            check_table_memory(path, in, file_bytes, rows_start, t.rows.size());
     }
     return t;
 }
