@@ -26,6 +26,8 @@ PACKAGES=(
   python3-gdal
   # GNU parallel: the cluster recipe of docs/batch.md and its test (tests/cli/shards.sh)
   parallel
+  # pmccabe: the function-length rule of host/ (tests/house/function_length.sh)
+  pmccabe
   # bench/bench_e2e.cpp: Mesa's llvmpipe (software OpenGL) headless through EGL, and the EGL/OpenGL headers
   libegl-dev libopengl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   # fuzz/ (scripts/fuzz.sh): clang with libFuzzer and the ASan/UBSan runtimes

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "fit/report.hpp"
 #include "core/csv.hpp"
 #include "plot/gnuplot.hpp"
@@ -21,13 +22,6 @@ namespace fs = std::filesystem;
 namespace shadelab::fit {
 
 namespace {
-
-std::string num(double x, int digits = 4) {
-    std::ostringstream s;
-    s.precision(digits);
-    s << x;
-    return s.str();
-}
 
 std::string params_text(const FitResult& f) {
     std::string s;
@@ -167,8 +161,8 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         fit_s += std::chrono::duration<double>(b - a).count();
         time_s += std::chrono::duration<double>(c - b).count();
         log << "[" << (q + 1) << "/" << models.size() << "] " << std::left << std::setw(30) << models[q] << std::right
-            << " rel-rms " << std::setw(10) << num(row.fit.error.at("rel-rms")) << "  " << std::setw(8)
-            << num(row.mfrag_per_s) << " Mfrag/s  fit " << num(std::chrono::duration<double>(b - a).count(), 3) << " s\n";
+            << " rel-rms " << std::setw(10) << num(row.fit.error.at("rel-rms"), 4) << "  " << std::setw(8)
+            << num(row.mfrag_per_s, 4) << " Mfrag/s  fit " << num(std::chrono::duration<double>(b - a).count(), 3) << " s\n";
         out.rows.push_back(std::move(row));
     }
     // A measured target (an image) has no kernel: speed-ups are then over Lambert, and the table says so.
@@ -247,7 +241,7 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
         s << "set multiplot layout 1,2 title \"" << "Every catalogue model fitted to " << out.target << " on the "
           << out.domain << " (" << problem.full().size() << " samples)\\nspeed: shading kernel on " << out.device
           << "\" noenhanced font 'sans,13'\n";
-        s << panel(csv, out.rows, true, "model error against speed (the target: " + num(out.target_mfrag_per_s) +
+        s << panel(csv, out.rows, true, "model error against speed (the target: " + num(out.target_mfrag_per_s, 4) +
                                             " Mfrag/s; < 1e-9 drawn at 1e-9)", key);
         s << panel(csv, out.rows, false, "numeric error of each fitted model (float kernel vs its double reference)", key);
         s << "unset multiplot\n";
@@ -262,7 +256,7 @@ std::string all_table_text(const AllResult& r) {
     std::ostringstream s;
     s << "every model fitted to " << r.target << "\n  domain: " << r.domain_description << "\n  speed: shading kernel, "
       << r.timed_fragments << " fragments, best of runs, on " << r.device << "; speed-ups over "
-      << r.speed_reference << " at " << num(r.target_mfrag_per_s) << " Mfrag/s\n";
+      << r.speed_reference << " at " << num(r.target_mfrag_per_s, 4) << " Mfrag/s\n";
     s << "  " << std::left << std::setw(5) << "rank" << std::setw(30) << "model" << std::right << std::setw(11) << r.metric
       << std::setw(10) << "Mfrag/s" << std::setw(9) << "speedup" << "  front  " << std::left << "parameters (albedo)\n";
     for (std::size_t i = 0; i < r.rows.size(); ++i) {

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "fit/all.hpp"
 #include "fit/fit.hpp"
 #include "fit/report.hpp"
@@ -25,19 +26,6 @@ namespace shadelab::fit {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string num(double x, int digits = 4) {
-    std::ostringstream s;
-    s.precision(digits);
-    s << x;
-    return s.str();
-}
-
-std::string fixed(double x, int decimals) {
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(decimals) << x;
-    return s.str();
-}
 
 // An error for a table: rounding-level values shown as such.
 std::string err(double e) { return e < 1e-12 ? "< 1e-12" : num(e, 3); }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "reference/reference.hpp"
 #include "image/image.hpp"
 #include "mesh/mesh.hpp"
@@ -60,12 +61,6 @@ glm::dvec3 at_angle_from(const glm::dvec3& a, double g, double u) {
     const glm::dvec3 t = glm::normalize(glm::cross(helper, a)), b = glm::cross(a, t);
     const double phi = 2.0 * kPi * u;
     return glm::normalize(std::cos(g) * a + std::sin(g) * (std::cos(phi) * t + std::sin(phi) * b));
-}
-
-std::string num(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "reference/reference.hpp"
 
 namespace shadelab::fit {
@@ -25,11 +26,8 @@ Material material_at(const ModelShape& shape, const std::vector<double>& x) {
     for (std::size_t j = 0; j < x.size(); ++j) {
         const ParamSpec& p = info.params[j];
         if (!std::isfinite(x[j]) || x[j] < p.lo || x[j] > p.hi || (p.integer && x[j] != std::floor(x[j]))) {
-            std::ostringstream s;
-            s.precision(17);
-            s << "internal: the fit asked for " << p.name << " = " << x[j] << " of model '" << info.name
-              << "', outside its range [" << p.lo << ", " << p.hi << "]";
-            throw Error(s.str());
+            throw Error("internal: the fit asked for " + p.name + " = " + num(x[j], 17) + " of model '" + info.name +
+                        "', outside its range [" + num(p.lo, 17) + ", " + num(p.hi, 17) + "]");
         }
         m.params[p.name] = x[j];
     }

@@ -279,12 +279,7 @@ Point levenberg_marquardt(const ValuesFn& F, const double* t, std::size_t n, con
 }
 
 
-std::string pct(double x) {
-    std::ostringstream s;
-    s.precision(3);
-    s << 100.0 * x << "%";
-    return s.str();
-}
+std::string pct(double x) { return num(100.0 * x, 3) + "%"; }
 
 // Quasi-random point i in [0, 1)^d (Halton, first d primes).
 double halton(std::uint64_t i, int dim) {

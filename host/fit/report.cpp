@@ -4,15 +4,11 @@
 #include <iomanip>
 #include <sstream>
 
+#include "core/format.hpp"
+
 namespace shadelab::fit {
 
 namespace {
-std::string num(double x, int digits = 7) {
-    std::ostringstream s;
-    s.precision(digits);
-    s << x;
-    return s.str();
-}
 // JSON numbers only for finite values (nlohmann writes NaN/Inf as null anyway; say so explicitly).
 nlohmann::json jnum(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
 }  // namespace

@@ -15,6 +15,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
 
 namespace fs = std::filesystem;
@@ -25,12 +26,6 @@ namespace {
 
 constexpr std::size_t kBlock = 2880;   // FITS logical record
 constexpr std::size_t kCard = 80;
-
-std::string lower_ext(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 std::string trim(const std::string& s) {
     const auto b = s.find_first_not_of(' ');
@@ -105,15 +100,16 @@ std::string keyword_value(const char* value) {
     return trim(out);
 }
 
-}  // namespace
+using FitsHandle = std::unique_ptr<fitsfile, FitsCloser>;
 
-// Read with cfitsio (Pence 1999; the FITS Standard 4.0): it applies BSCALE/BZERO, knows BLANK, reads extension
-// HDUs by cfitsio's bracket syntax (img.fits[1], img.fits[SCI]) and tile-compressed images (.fz) as images. The
-// checks shadelab adds: the file exists, the image is 2-D (or 3 colour planes), at most 65536 pixels a side.
-// When no HDU is named and the primary HDU has no image (NAXIS = 0, as in every .fz file), the first image
-// extension is read.
-Image read_fits(const std::string& path, std::map<std::string, std::string>* keywords) {
-    const std::string file = fits_file_part(path);
+// The image's axes as the header gives them.
+struct FitsShape {
+    long long w = 0, h = 0, planes = 1;
+    int bitpix = 0;
+};
+
+// Opens path (its HDU, when one is named in brackets) with cfitsio once the file exists and holds one block.
+FitsHandle open_fits(const std::string& path, const std::string& file) {
     std::error_code ec;
     if (!fs::exists(file, ec)) throw Error("image '" + path + "' not found: check the path");
     const auto size = fs::file_size(file, ec);
@@ -128,20 +124,24 @@ Image read_fits(const std::string& path, std::map<std::string, std::string>* key
                         fits_status_text(st) + ")");
         throw Error("'" + path + "' is not a readable FITS file (cfitsio: " + fits_status_text(st) + ")");
     }
-    std::unique_ptr<fitsfile, FitsCloser> f(raw_handle);
-    int hdu = 0, hdutype = 0, naxis = 0, bitpix = 0;
-    fits_get_hdu_num(f.get(), &hdu);
-    fits_get_img_dim(f.get(), &naxis, &st);
-    const bool named = path != file;
+    return FitsHandle(raw_handle);
+}
+
+// Moves to the HDU with the image (the first image extension when no HDU is named and the primary is empty)
+// and returns its NAXIS, 2 or 3.
+int move_to_image(fitsfile* f, const std::string& path, bool named) {
+    int st = 0, hdu = 0, hdutype = 0, naxis = 0;
+    fits_get_hdu_num(f, &hdu);
+    fits_get_img_dim(f, &naxis, &st);
     if (!st && naxis == 0 && !named) {
         // the primary HDU is empty: the first image extension (a compressed image counts as one)
         int hdus = 0;
-        fits_get_num_hdus(f.get(), &hdus, &st);
+        fits_get_num_hdus(f, &hdus, &st);
         for (int h = 2; h <= hdus && !st && naxis == 0; ++h) {
-            fits_movabs_hdu(f.get(), h, &hdutype, &st);
-            if (!st && (hdutype == IMAGE_HDU || fits_is_compressed_image(f.get(), &st))) fits_get_img_dim(f.get(), &naxis, &st);
+            fits_movabs_hdu(f, h, &hdutype, &st);
+            if (!st && (hdutype == IMAGE_HDU || fits_is_compressed_image(f, &st))) fits_get_img_dim(f, &naxis, &st);
         }
-        fits_get_hdu_num(f.get(), &hdu);
+        fits_get_hdu_num(f, &hdu);
     }
     if (st) throw Error("FITS file '" + path + "': " + fits_status_text(st) + " (is it truncated or not a FITS image?)");
     if (naxis == 0)
@@ -149,25 +149,38 @@ Image read_fits(const std::string& path, std::map<std::string, std::string>* key
     if (naxis != 2 && naxis != 3)
         throw Error("FITS file '" + path + "' has NAXIS = " + std::to_string(naxis) + " in HDU " + std::to_string(hdu) +
                     ": only 2-D images (or 3 colour planes) are read");
+    return naxis;
+}
+
+FitsShape image_shape(fitsfile* f, const std::string& path, int naxis) {
+    int st = 0;
+    FitsShape s;
     long naxes[3] = {1, 1, 1};
-    if (fits_get_img_param(f.get(), 3, &bitpix, &naxis, naxes, &st))
+    if (fits_get_img_param(f, 3, &s.bitpix, &naxis, naxes, &st))
         throw Error("FITS file '" + path + "': " + fits_status_text(st));
-    const long long w = naxes[0], h = naxes[1], planes = naxis == 3 ? naxes[2] : 1;
-    if (w < 1 || h < 1 || w > 65536 || h > 65536)
-        throw Error("FITS file '" + path + "': image size " + std::to_string(w) + "x" + std::to_string(h) + " is not supported");
-    if (planes != 1 && planes != 3)
-        throw Error("FITS file '" + path + "' has " + std::to_string(planes) + " planes: only 1 (grey) or 3 (RGB) are read");
-    const std::size_t n = std::size_t(w) * std::size_t(h) * std::size_t(planes);
-    // The header's sizes are checked against the file and the memory limit before anything is allocated:
-    // a header of a few bytes may ask for gigabytes. (A tile-compressed image is checked by cfitsio as it reads.)
-    const std::string dims = std::to_string(w) + "x" + std::to_string(h) + (planes > 1 ? "x" + std::to_string(planes) : "");
+    s.w = naxes[0];
+    s.h = naxes[1];
+    s.planes = naxis == 3 ? naxes[2] : 1;
+    if (s.w < 1 || s.h < 1 || s.w > 65536 || s.h > 65536)
+        throw Error("FITS file '" + path + "': image size " + std::to_string(s.w) + "x" + std::to_string(s.h) + " is not supported");
+    if (s.planes != 1 && s.planes != 3)
+        throw Error("FITS file '" + path + "' has " + std::to_string(s.planes) + " planes: only 1 (grey) or 3 (RGB) are read");
+    return s;
+}
+
+// The header's sizes are checked against the file and the memory limit before anything is allocated:
+// a header of a few bytes may ask for gigabytes. (A tile-compressed image is checked by cfitsio as it reads.)
+void check_fits_size(fitsfile* f, const std::string& path, const std::string& file, const FitsShape& s) {
+    const std::size_t n = std::size_t(s.w) * std::size_t(s.h) * std::size_t(s.planes);
+    const std::string dims = std::to_string(s.w) + "x" + std::to_string(s.h) + (s.planes > 1 ? "x" + std::to_string(s.planes) : "");
     int compressed_status = 0;
-    if (!fits_is_compressed_image(f.get(), &compressed_status)) {
-        const std::size_t bytes = std::size_t(std::abs(bitpix)) / 8;
+    if (!fits_is_compressed_image(f, &compressed_status)) {
+        const std::size_t bytes = std::size_t(std::abs(s.bitpix)) / 8;
         LONGLONG head_start = 0, data_start = 0, data_end = 0;
         int addr_status = 0;
+        std::error_code ec;
         const auto file_bytes = fs::file_size(file, ec);
-        if (!fits_get_hduaddrll(f.get(), &head_start, &data_start, &data_end, &addr_status) && !ec &&
+        if (!fits_get_hduaddrll(f, &head_start, &data_start, &data_end, &addr_status) && !ec &&
             double(file_bytes) < double(data_start) + double(n) * double(bytes))
             throw Error("FITS file '" + path + "' is truncated: its header says " + dims + " values of " +
                         std::to_string(bytes) + " bytes (" + format_bytes(double(n) * double(bytes)) +
@@ -176,17 +189,23 @@ Image read_fits(const std::string& path, std::map<std::string, std::string>* key
     }
     // The float image (grey + alpha or RGBA), one row of doubles, and the caller's copy.
     check_memory("FITS image '" + path + "' (" + dims + ")",
-                 2.0 * double(w) * double(h) * (planes == 1 ? 2.0 : 4.0) * 4.0 + double(w) * 9.0);
+                 2.0 * double(s.w) * double(s.h) * (s.planes == 1 ? 2.0 : 4.0) * 4.0 + double(s.w) * 9.0);
+}
 
+// The pixels, grey + alpha or RGBA, bottom row first as FITS stores them; a blank, NaN/Inf or beyond-float
+// value is 0 with alpha 0.
+Image read_fits_pixels(fitsfile* f, const std::string& path, const FitsShape& s) {
+    const long long w = s.w, h = s.h, planes = s.planes;
     const int ch = planes == 1 ? 2 : 4;
     Image img(int(w), int(h), ch);
     std::vector<double> row(static_cast<std::size_t>(w));
     std::vector<char> null(static_cast<std::size_t>(w));
+    int st = 0;
     for (long long p = 0; p < planes; ++p)
         for (long long j = 0; j < h; ++j) {
             long first[3] = {1, long(j + 1), long(p + 1)};
             int anynul = 0;
-            if (fits_read_pixnull(f.get(), TDOUBLE, first, long(w), row.data(), null.data(), &anynul, &st)) {
+            if (fits_read_pixnull(f, TDOUBLE, first, long(w), row.data(), null.data(), &anynul, &st)) {
                 if (st == END_OF_FILE || st == READ_ERROR)
                     throw Error("FITS file '" + path + "' is truncated: its data are shorter than NAXIS1 x NAXIS2 x BITPIX say");
                 throw Error("FITS file '" + path + "': reading row " + std::to_string(j + 1) + ": " + fits_status_text(st));
@@ -201,19 +220,38 @@ Image read_fits(const std::string& path, std::map<std::string, std::string>* key
                 else if (p == 0) img.at(int(i), y, ch - 1) = 1.0f;
             }
         }
-    if (keywords) {
-        keywords->clear();
-        int nkeys = 0;
-        fits_get_hdrspace(f.get(), &nkeys, nullptr, &st);
-        for (int k = 1; k <= nkeys && !st; ++k) {
-            char name[FLEN_KEYWORD] = {0}, value[FLEN_VALUE] = {0}, comment[FLEN_COMMENT] = {0};
-            if (fits_read_keyn(f.get(), k, name, value, comment, &st)) break;
-            const std::string key = trim(name);
-            if (!key.empty() && key != "COMMENT" && key != "HISTORY" && !keywords->count(key))
-                (*keywords)[key] = keyword_value(value);
-        }
-        st = 0;
+    return img;
+}
+
+// The HDU's keywords (the first of each name; COMMENT and HISTORY left out), values as keyword_value gives them.
+void read_fits_keywords(fitsfile* f, std::map<std::string, std::string>& keywords) {
+    keywords.clear();
+    int st = 0, nkeys = 0;
+    fits_get_hdrspace(f, &nkeys, nullptr, &st);
+    for (int k = 1; k <= nkeys && !st; ++k) {
+        char name[FLEN_KEYWORD] = {0}, value[FLEN_VALUE] = {0}, comment[FLEN_COMMENT] = {0};
+        if (fits_read_keyn(f, k, name, value, comment, &st)) break;
+        const std::string key = trim(name);
+        if (!key.empty() && key != "COMMENT" && key != "HISTORY" && !keywords.count(key))
+            keywords[key] = keyword_value(value);
     }
+}
+
+}  // namespace
+
+// Read with cfitsio (Pence 1999; the FITS Standard 4.0): it applies BSCALE/BZERO, knows BLANK, reads extension
+// HDUs by cfitsio's bracket syntax (img.fits[1], img.fits[SCI]) and tile-compressed images (.fz) as images. The
+// checks shadelab adds: the file exists, the image is 2-D (or 3 colour planes), at most 65536 pixels a side.
+// When no HDU is named and the primary HDU has no image (NAXIS = 0, as in every .fz file), the first image
+// extension is read.
+Image read_fits(const std::string& path, std::map<std::string, std::string>* keywords) {
+    const std::string file = fits_file_part(path);
+    const FitsHandle f = open_fits(path, file);
+    const int naxis = move_to_image(f.get(), path, path != file);
+    const FitsShape shape = image_shape(f.get(), path, naxis);
+    check_fits_size(f.get(), path, file, shape);
+    Image img = read_fits_pixels(f.get(), path, shape);
+    if (keywords) read_fits_keywords(f.get(), *keywords);
     return img;
 }
 

@@ -14,6 +14,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
 #include "image/exr_header.hpp"
 #include "image/fits.hpp"
@@ -169,8 +170,7 @@ std::vector<unsigned char> encode_srgb8(const Image& img) {
 }
 
 Encoding encoding_for(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lower_ext(path);
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tga" || ext == ".webp")
         return Encoding::Srgb8;
     // No .pfm: Debian's OpenImageIO 2.4 reads PFM but has no PFM writer.
@@ -219,8 +219,7 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
     // OpenImageIO 2.4's FITS plug-in shifts rows and ignores BSCALE/BZERO (see image/fits.hpp).
     if (is_fits_path(path)) return write_fits(path, img);
     const Encoding enc = encoding_for(path);
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lower_ext(path);
     if (ext == ".hdr" && img.channels != 3) {
         // Radiance HDR holds RGB only: the colour channels are written (grey as RGB), alpha is dropped.
         Image rgb(img.width, img.height, 3);

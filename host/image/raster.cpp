@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
 
 namespace fs = std::filesystem;
@@ -103,7 +104,7 @@ std::pair<std::string, std::string> split_band(const std::string& path) {
 
 bool is_gdal_path(const std::string& path) {
     const auto [file, band] = split_band(path);
-    const std::string e = lower(fs::path(file).extension().string());
+    const std::string e = lower_ext(file);
     if (e == ".cub" || e == ".lbl" || e == ".xml" || e == ".img") return true;
     return !band.empty() && (e == ".tif" || e == ".tiff");
 }

@@ -373,11 +373,11 @@ void Mesh::transform(const glm::dmat4& m) {
     }
 }
 
-Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
-    MeshLoadReport local;
-    MeshLoadReport& r = report ? *report : local;
-    r = MeshLoadReport{};
+namespace {
 
+// The path names a readable, non-empty mesh file of a supported format whose grammar OpenMesh can take;
+// returns its lower-case extension. OpenMesh must never see a file it would abort, crash or loop on.
+std::string check_mesh_path(const std::string& path) {
     std::error_code ec;
     if (!fs::exists(path, ec)) throw Error("mesh file '" + path + "' not found: check the path");
     if (fs::is_directory(path, ec)) throw Error("mesh path '" + path + "' is a folder: give a mesh file");
@@ -386,9 +386,13 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
         throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
     if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
     if (!std::ifstream(path)) throw Error("mesh file '" + path + "' cannot be opened: check its read permission");
-    // The file's grammar first: OpenMesh must never see a file it would abort, crash or loop on.
     check_mesh_file(path, ext);
+    return ext;
+}
 
+// Rejects NaN/Inf and beyond-float-range numbers before OpenMesh reads them; for OBJ also returns what the
+// scan learnt about normals and faces OpenMesh drops or reduces without a word (ObjScan).
+ObjScan scan_non_finite(const std::string& path, const std::string& ext) {
     ObjScan obj;
     if (ext == ".obj") {
         obj = scan_obj(path);
@@ -407,10 +411,15 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
             throw Error("mesh '" + path + "' has NaN/Inf or beyond-float-range numbers on " + counted(bad, "line", "lines") + " (first on line " +
                         std::to_string(first) + "): fix or remove them");
     }
+    return obj;
+}
 
-    OMesh om;
+// OpenMesh reads the file into om (with vertex normals when it has them, flagged in opt); returns the
+// warnings it printed meanwhile.
+std::string read_with_openmesh(OMesh& om, OpenMesh::IO::Options& opt, const std::string& path,
+                               const std::string& ext) {
     om.request_vertex_normals();
-    OpenMesh::IO::Options opt = OpenMesh::IO::Options::VertexNormal;
+    opt = OpenMesh::IO::Options::VertexNormal;
     bool ok = false;
     std::string log;
     {
@@ -426,62 +435,75 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
     if (!ok)
         throw Error("cannot read mesh '" + path + "': OpenMesh could not parse it as " + format_name(ext) +
                     ": check that it is a valid " + format_name(ext) + " file (re-export it)");
+    return log;
+}
 
-    r.vertices_in = om.n_vertices();
-    r.faces_in = om.n_faces();
-    r.degenerate_dropped = obj.collapsed_faces;
-    {
-        std::istringstream ls(log);
-        std::string line, first_other;
-        std::size_t complex_edges = 0, invalid_index = 0, other = 0;
-        while (std::getline(ls, line)) {
-            if (line.find("complex edge") != std::string::npos) ++complex_edges;
-            else if (line.find("equal vertices") != std::string::npos) ++r.degenerate_dropped;
-            else if (line.find("invalid vertex index") != std::string::npos) ++invalid_index;
-            else if (line.find_first_not_of(" \t\r") != std::string::npos) {
-                if (!other++) first_other = line.substr(0, 120);
-            }
+// OpenMesh's warnings, counted by kind into the report's notes (faces it dropped as having equal vertices
+// count as degenerate), and the OBJ faces the scan saw reduced.
+void note_openmesh_log(const std::string& log, const ObjScan& obj, MeshLoadReport& r) {
+    std::istringstream ls(log);
+    std::string line, first_other;
+    std::size_t complex_edges = 0, invalid_index = 0, other = 0;
+    while (std::getline(ls, line)) {
+        if (line.find("complex edge") != std::string::npos) ++complex_edges;
+        else if (line.find("equal vertices") != std::string::npos) ++r.degenerate_dropped;
+        else if (line.find("invalid vertex index") != std::string::npos) ++invalid_index;
+        else if (line.find_first_not_of(" \t\r") != std::string::npos) {
+            if (!other++) first_other = line.substr(0, 120);
         }
-        if (complex_edges)
-            r.notes.push_back(counted(complex_edges, "non-manifold ('complex') edge", "non-manifold ('complex') edges") +
-                              ": OpenMesh re-added the faces with duplicated vertices");
-        if (invalid_index)
-            r.notes.push_back(counted(invalid_index, "face", "faces") + " naming a vertex that does not exist: dropped");
-        if (obj.reduced_faces)
-            r.notes.push_back(counted(obj.reduced_faces, "face", "faces") +
-                              " listing a vertex twice: kept without the repeat");
-        if (other)
-            r.notes.push_back(counted(other, "other OpenMesh warning", "other OpenMesh warnings") + " (first: '" + first_other + "')");
     }
+    if (complex_edges)
+        r.notes.push_back(counted(complex_edges, "non-manifold ('complex') edge", "non-manifold ('complex') edges") +
+                          ": OpenMesh re-added the faces with duplicated vertices");
+    if (invalid_index)
+        r.notes.push_back(counted(invalid_index, "face", "faces") + " naming a vertex that does not exist: dropped");
+    if (obj.reduced_faces)
+        r.notes.push_back(counted(obj.reduced_faces, "face", "faces") +
+                          " listing a vertex twice: kept without the repeat");
+    if (other)
+        r.notes.push_back(counted(other, "other OpenMesh warning", "other OpenMesh warnings") + " (first: '" + first_other + "')");
+}
 
-    Mesh m;
-    m.source = path;
-    m.positions.reserve(om.n_vertices());
+std::vector<glm::dvec3> finite_positions(const OMesh& om, const std::string& path) {
+    std::vector<glm::dvec3> positions;
+    positions.reserve(om.n_vertices());
     std::size_t bad = 0;
     for (auto vh : om.vertices()) {
         const glm::dvec3 p = to_glm(om.point(vh));
         bad += finite3(p) ? 0 : 1;
-        m.positions.push_back(p);
+        positions.push_back(p);
     }
     if (bad)
         throw Error("mesh '" + path + "' has " + counted(bad, "vertex", "vertices") +
                     " with NaN/Inf coordinates: fix or remove them");
-    const std::size_t nv = m.positions.size();
+    return positions;
+}
 
-    // Geometry tests run on positions scaled to the bounding box (extent 1), so they mean the same at any
-    // scale and cannot underflow: a triangle is degenerate when |cross| <= 1e-24, i.e. its area is below
-    // (1e-12 * extent)^2 -- far below what double coordinates can resolve as a real sliver.
+// Geometry tests run on positions scaled to the bounding box (extent 1), so they mean the same at any
+// scale and cannot underflow: a triangle is degenerate when |cross| <= 1e-24, i.e. its area is below
+// (1e-12 * extent)^2 -- far below what double coordinates can resolve as a real sliver.
+std::vector<glm::dvec3> unit_box_positions(const std::vector<glm::dvec3>& positions) {
+    const std::size_t nv = positions.size();
     glm::dvec3 lo(0.0), hi(0.0);
     if (nv) {
-        lo = hi = m.positions.front();
-        for (const auto& p : m.positions) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+        lo = hi = positions.front();
+        for (const auto& p : positions) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
     }
     const double extent = glm::length(hi - lo);
     const double inv = extent > 0.0 ? 1.0 / extent : 0.0;
     std::vector<glm::dvec3> q(nv);
-    for (std::size_t i = 0; i < nv; ++i) q[i] = (m.positions[i] - lo) * inv;
-    auto face_cross = [&q](const glm::u32vec3& t) { return glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]); };
+    for (std::size_t i = 0; i < nv; ++i) q[i] = (positions[i] - lo) * inv;
+    return q;
+}
 
+// The unnormalised normal (twice the area) of triangle t on the unit-box positions q.
+glm::dvec3 face_cross(const std::vector<glm::dvec3>& q, const glm::u32vec3& t) {
+    return glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]);
+}
+
+// The faces OpenMesh read that are triangles with three distinct vertices and a non-zero area go into
+// m.triangles; the others are counted into the report and noted. Throws when none is left.
+void keep_triangles(const OMesh& om, const std::vector<glm::dvec3>& q, Mesh& m, MeshLoadReport& r) {
     std::size_t zero_area = 0;
     for (auto fh : om.faces()) {
         glm::u32vec3 t(0);
@@ -490,7 +512,7 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
             if (k < 3) t[k] = glm::u32(vh.idx());
             ++k;
         }
-        if (k != 3 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(glm::length(face_cross(t)) > 1e-24)) {
+        if (k != 3 || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || !(glm::length(face_cross(q, t)) > 1e-24)) {
             ++zero_area;
             continue;
         }
@@ -503,39 +525,56 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
                           " dropped");
     r.triangles_out = m.triangles.size();
     if (m.triangles.empty())
-        throw Error("mesh '" + path + "' has no triangles after loading: is it a point cloud or an empty file?");
+        throw Error("mesh '" + m.source + "' has no triangles after loading: is it a point cloud or an empty file?");
+}
 
-    std::vector<char> used(nv, 0);
-    std::vector<std::size_t> first_face(nv, kNone);
-    std::vector<glm::dvec3> area_sum(nv, glm::dvec3(0.0));   // area-weighted: sum of unnormalised face normals
-    for (std::size_t j = 0; j < m.triangles.size(); ++j) {
-        const auto& t = m.triangles[j];
-        const glm::dvec3 c = face_cross(t);
+// Per vertex: whether a triangle uses it, the first that does, and the sum of its faces' unnormalised normals.
+struct VertexUse {
+    std::vector<char> used;
+    std::vector<std::size_t> first_face;
+    std::vector<glm::dvec3> area_sum;
+};
+
+VertexUse vertex_use(const std::vector<glm::u32vec3>& triangles, const std::vector<glm::dvec3>& q) {
+    const std::size_t nv = q.size();
+    VertexUse u{std::vector<char>(nv, 0), std::vector<std::size_t>(nv, kNone),
+                std::vector<glm::dvec3>(nv, glm::dvec3(0.0))};
+    for (std::size_t j = 0; j < triangles.size(); ++j) {
+        const auto& t = triangles[j];
+        const glm::dvec3 c = face_cross(q, t);
         for (int k = 0; k < 3; ++k) {
-            used[t[k]] = 1;
-            area_sum[t[k]] += c;
-            if (first_face[t[k]] == kNone) first_face[t[k]] = j;
+            u.used[t[k]] = 1;
+            u.area_sum[t[k]] += c;
+            if (u.first_face[t[k]] == kNone) u.first_face[t[k]] = j;
         }
     }
-    r.unused_vertices = std::size_t(std::count(used.begin(), used.end(), 0));
+    return u;
+}
 
-    // Computed normal: area-weighted (the sum of the unnormalised face normals, i.e. twice the face areas,
-    // of the faces around the vertex; Max 1999 compares weightings, area weighting is the usual default).
-    // Where that sum cancels to zero (faces of opposite orientation meeting at the vertex) the vertex takes
-    // the normal of the first triangle that uses it. A vertex no triangle uses gets +z: nothing reads it.
-    auto computed = [&](std::size_t i) {
-        glm::dvec3 n;
-        if (unit(area_sum[i], n)) return n;
-        if (first_face[i] != kNone && unit(face_cross(m.triangles[first_face[i]]), n)) return n;
-        return glm::dvec3(0.0, 0.0, 1.0);
-    };
+// Computed normal: area-weighted (the sum of the unnormalised face normals, i.e. twice the face areas,
+// of the faces around the vertex; Max 1999 compares weightings, area weighting is the usual default).
+// Where that sum cancels to zero (faces of opposite orientation meeting at the vertex) the vertex takes
+// the normal of the first triangle that uses it. A vertex no triangle uses gets +z: nothing reads it.
+glm::dvec3 computed_normal(const VertexUse& u, std::size_t i, const std::vector<glm::u32vec3>& triangles,
+                           const std::vector<glm::dvec3>& q) {
+    glm::dvec3 n;
+    if (unit(u.area_sum[i], n)) return n;
+    if (u.first_face[i] != kNone && unit(face_cross(q, triangles[u.first_face[i]]), n)) return n;
+    return glm::dvec3(0.0, 0.0, 1.0);
+}
 
-    // File normals, where present and valid. STL stores facet normals only (OpenMesh may still flag vertex
-    // normals), so STL vertex normals are always computed. OBJ vertices take a file normal only when a face
-    // corner names one for them (see ObjScan); PLY/OFF normals are per vertex, all or none.
+// File normals, where present and valid. STL stores facet normals only (OpenMesh may still flag vertex
+// normals), so STL vertex normals are always computed. OBJ vertices take a file normal only when a face
+// corner names one for them (see ObjScan); PLY/OFF normals are per vertex, all or none.
+// Returns how many leading vertices the file declared normals for.
+std::size_t assign_normals(const OMesh& om, const OpenMesh::IO::Options& opt, const std::string& ext,
+                           const ObjScan& obj, const std::vector<glm::dvec3>& q, Mesh& m, MeshLoadReport& r) {
+    const std::size_t nv = m.positions.size();
+    const VertexUse use = vertex_use(m.triangles, q);
+    r.unused_vertices = std::size_t(std::count(use.used.begin(), use.used.end(), 0));
     const bool file_has_normals = opt.check(OpenMesh::IO::Options::VertexNormal) && ext != ".stl";
     std::size_t declared = 0;
-    if (file_has_normals) declared = std::min(nv, ext == ".obj" ? obj.vertices : declared_vertex_count(path, ext));
+    if (file_has_normals) declared = std::min(nv, ext == ".obj" ? obj.vertices : declared_vertex_count(m.source, ext));
     m.normals.resize(nv);
     std::size_t taken = 0;
     for (std::size_t i = 0; i < nv; ++i) {
@@ -546,23 +585,54 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
                 continue;
             }
         }
-        if (i < declared && used[i]) ++r.normals_repaired;   // the file has normals, this one is unusable
-        m.normals[i] = computed(i);
+        if (i < declared && use.used[i]) ++r.normals_repaired;   // the file has normals, this one is unusable
+        m.normals[i] = computed_normal(use, i, m.triangles, q);
     }
     r.normals_from_file = taken > 0;
-    // Copies OpenMesh made for complex edges take the normal of the vertex they duplicate (same position).
-    if (r.normals_from_file && nv > declared) {
-        std::map<std::tuple<double, double, double>, std::size_t> original;
-        for (std::size_t i = 0; i < declared; ++i)
-            original.emplace(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z), i);
-        std::size_t copied = 0;
-        for (std::size_t i = declared; i < nv; ++i) {
-            auto it = original.find(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z));
-            if (it != original.end()) { m.normals[i] = m.normals[it->second]; ++copied; }
-        }
-        if (copied)
-            r.notes.push_back(counted(copied, "vertex", "vertices") + " duplicated by OpenMesh took the normal of their original");
+    return declared;
+}
+
+// Copies OpenMesh made for complex edges (past the `declared` vertices of the file) take the normal of the
+// vertex they duplicate (same position).
+void copy_duplicated_normals(std::size_t declared, Mesh& m, MeshLoadReport& r) {
+    const std::size_t nv = m.positions.size();
+    std::map<std::tuple<double, double, double>, std::size_t> original;
+    for (std::size_t i = 0; i < declared; ++i)
+        original.emplace(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z), i);
+    std::size_t copied = 0;
+    for (std::size_t i = declared; i < nv; ++i) {
+        auto it = original.find(std::make_tuple(m.positions[i].x, m.positions[i].y, m.positions[i].z));
+        if (it != original.end()) { m.normals[i] = m.normals[it->second]; ++copied; }
     }
+    if (copied)
+        r.notes.push_back(counted(copied, "vertex", "vertices") + " duplicated by OpenMesh took the normal of their original");
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
+    MeshLoadReport local;
+    MeshLoadReport& r = report ? *report : local;
+    r = MeshLoadReport{};
+
+    const std::string ext = check_mesh_path(path);
+    const ObjScan obj = scan_non_finite(path, ext);
+    OMesh om;
+    OpenMesh::IO::Options opt;
+    const std::string log = read_with_openmesh(om, opt, path, ext);
+
+    r.vertices_in = om.n_vertices();
+    r.faces_in = om.n_faces();
+    r.degenerate_dropped = obj.collapsed_faces;
+    note_openmesh_log(log, obj, r);
+
+    Mesh m;
+    m.source = path;
+    m.positions = finite_positions(om, path);
+    const std::vector<glm::dvec3> q = unit_box_positions(m.positions);
+    keep_triangles(om, q, m, r);
+    const std::size_t declared = assign_normals(om, opt, ext, obj, q, m, r);
+    if (r.normals_from_file && m.positions.size() > declared) copy_duplicated_normals(declared, m, r);
     if (r.normals_repaired)
         r.notes.push_back(counted(r.normals_repaired, "vertex normal", "vertex normals") +
                           " in the file zero, NaN or missing: recomputed (area-weighted)");

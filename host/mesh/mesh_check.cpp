@@ -219,12 +219,37 @@ double ply_binary_value(const unsigned char* p, int t, bool big_endian) {
     return as(double());
 }
 
-void check_ply(std::string_view d, const Checker& c) {
-    Lines lines(d);
-    std::string_view line;
-    if (!lines.next(line) || line != "ply") c.fail_line(1, "a PLY file starts with the line 'ply'", "is it really a PLY file?");
+// The header, line by line up to 'end_header': the format and every element with its properties.
+struct PlyHeader {
     std::string format;
     std::vector<PlyElement> elements;
+};
+
+// One 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME' line (words w) of line n.
+PlyProperty ply_property(const std::vector<std::string_view>& w, std::string_view line, std::size_t n, const Checker& c) {
+    PlyProperty p;
+    if (w.size() == 5 && w[1] == "list") {
+        p.list = true;
+        p.count_type = ply_type(w[2]);
+        p.type = ply_type(w[3]);
+        p.name = std::string(w[4]);
+        if (p.count_type < 0 || p.type < 0) c.fail_line(n, "unknown type in " + quoted(line));
+        if (!kPlyTypes[p.count_type].integral) c.fail_line(n, "a list's count must have an integer type");
+    } else if (w.size() == 3) {
+        p.type = ply_type(w[1]);
+        p.name = std::string(w[2]);
+        if (p.type < 0) c.fail_line(n, "unknown property type " + quoted(w[1]) + " (char, uchar, short, ushort, int, uint, float, double)");
+    } else {
+        c.fail_line(n, "expected 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
+    }
+    return p;
+}
+
+PlyHeader read_ply_header(Lines& lines, const Checker& c) {
+    std::string_view line;
+    if (!lines.next(line) || line != "ply") c.fail_line(1, "a PLY file starts with the line 'ply'", "is it really a PLY file?");
+    PlyHeader h;
+    std::vector<PlyElement>& elements = h.elements;
     bool ended = false;
     while (!ended && lines.next(line)) {
         const std::size_t n = lines.number();
@@ -233,11 +258,11 @@ void check_ply(std::string_view d, const Checker& c) {
         const std::string_view kw = w[0];
         if (kw == "comment" || kw == "obj_info") continue;
         if (kw == "format") {
-            if (!format.empty()) c.fail_line(n, "a second 'format' line");
+            if (!h.format.empty()) c.fail_line(n, "a second 'format' line");
             if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
                 c.fail_line(n, "expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
             if (w[2] != "1.0" && w[2] != "1") c.fail_line(n, "PLY version " + quoted(w[2]) + ": only 1.0 exists");
-            format = std::string(w[1]);
+            h.format = std::string(w[1]);
         } else if (kw == "element") {
             long long count = -1;
             if (w.size() != 3 || !integer(w[2], count) || count < 0)
@@ -247,21 +272,7 @@ void check_ply(std::string_view d, const Checker& c) {
             elements.push_back({std::string(w[1]), std::uint64_t(count), n, {}});
         } else if (kw == "property") {
             if (elements.empty()) c.fail_line(n, "'property' before any 'element'");
-            PlyProperty p;
-            if (w.size() == 5 && w[1] == "list") {
-                p.list = true;
-                p.count_type = ply_type(w[2]);
-                p.type = ply_type(w[3]);
-                p.name = std::string(w[4]);
-                if (p.count_type < 0 || p.type < 0) c.fail_line(n, "unknown type in " + quoted(line));
-                if (!kPlyTypes[p.count_type].integral) c.fail_line(n, "a list's count must have an integer type");
-            } else if (w.size() == 3) {
-                p.type = ply_type(w[1]);
-                p.name = std::string(w[2]);
-                if (p.type < 0) c.fail_line(n, "unknown property type " + quoted(w[1]) + " (char, uchar, short, ushort, int, uint, float, double)");
-            } else {
-                c.fail_line(n, "expected 'property TYPE NAME' or 'property list COUNT_TYPE TYPE NAME'");
-            }
+            const PlyProperty p = ply_property(w, line, n, c);
             for (const auto& q : elements.back().properties)
                 if (q.name == p.name) c.fail_line(n, "property '" + p.name + "' is declared twice in element '" + elements.back().name + "'");
             elements.back().properties.push_back(p);
@@ -273,10 +284,13 @@ void check_ply(std::string_view d, const Checker& c) {
         }
     }
     if (!ended) c.fail("the PLY header has no 'end_header' line: the file is truncated or not PLY", "re-export it");
-    if (format.empty()) c.fail("the PLY header has no 'format' line");
+    if (h.format.empty()) c.fail("the PLY header has no 'format' line");
+    return h;
+}
 
-    // What OpenMesh reads: a vertex element with scalar x, y, z; a face element with a list of integer
-    // vertex indices. Other elements and properties are skipped by it (and walked here).
+// What OpenMesh reads: a vertex element with scalar x, y, z; a face element with a list of integer
+// vertex indices. Other elements and properties are skipped by it (and walked here). Returns the vertex element.
+const PlyElement& ply_vertex_element(const std::vector<PlyElement>& elements, const Checker& c) {
     const PlyElement* vertex = nullptr;
     for (const auto& e : elements) {
         if (e.count > 0 && e.properties.empty()) c.fail_line(e.line, "element '" + e.name + "' has no properties");
@@ -298,85 +312,120 @@ void check_ply(std::string_view d, const Checker& c) {
         }
     }
     if (!vertex) c.fail("the PLY header declares no 'element vertex'");
-    const double nvertices = double(vertex->count);
+    return *vertex;
+}
 
-    // The body: every element's items in order, each bounded by the bytes left.
-    const std::size_t body = lines.offset();
-    const bool ascii = format == "ascii";
-    const bool big = format == "binary_big_endian";
-    std::size_t pos = body;
-    std::size_t line_no = lines.number() + 1;   // ASCII: line of the next word (for messages)
-    auto next_word = [&](std::string_view& w) {
-        while (pos < d.size() && is_space(d[pos])) {
-            if (d[pos] == '\n') ++line_no;
-            ++pos;
-        }
-        const std::size_t s = pos;
-        while (pos < d.size() && !is_space(d[pos])) ++pos;
-        w = d.substr(s, pos - s);
-        return pos > s;
-    };
-    for (const auto& e : elements) {
-        auto truncated = [&](std::uint64_t item) {
-            c.fail("the file ends after " + std::to_string(item) + " of the " + std::to_string(e.count) + " '" + e.name +
-                       "' items its header declares: it is truncated",
-                   "re-export it");
-        };
+// The body: every element's items in order, each bounded by the bytes left.
+class PlyBody {
+public:
+    PlyBody(std::string_view d, const Checker& c, const std::string& format, std::size_t body, std::size_t line_no,
+            const PlyElement& vertex)
+        : d_(d), c_(c), ascii_(format == "ascii"), big_(format == "binary_big_endian"), pos_(body), line_no_(line_no),
+          vertex_(vertex), nvertices_(double(vertex.count)) {}
+
+    void walk(const PlyElement& e) {
         const bool faces = e.name == "face";
         for (std::uint64_t i = 0; i < e.count; ++i) {
             for (const auto& p : e.properties) {
                 const bool indices = faces && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
                 double count = 1;
                 if (p.list) {
-                    if (ascii) {
-                        std::string_view w;
-                        long long k;
-                        if (!next_word(w)) truncated(i);
-                        if (!integer(w, k) || k < 0 || double(k) > kPlyTypes[p.count_type].hi)
-                            c.fail_line(line_no, "'" + e.name + "' item " + std::to_string(i) + ": list length " + quoted(w) +
-                                                     " is not a count of type " + kPlyTypes[p.count_type].name);
-                        count = double(k);
-                    } else {
-                        if (d.size() - pos < std::size_t(kPlyTypes[p.count_type].bytes)) truncated(i);
-                        count = ply_binary_value(reinterpret_cast<const unsigned char*>(d.data()) + pos, p.count_type, big);
-                        pos += std::size_t(kPlyTypes[p.count_type].bytes);
-                        if (count < 0) c.fail("'" + e.name + "' item " + std::to_string(i) + " has a negative list length");
-                    }
+                    count = list_length(e, p, i);
                     if (indices && count < 3)
-                        c.fail("face " + std::to_string(i) + " has " + std::to_string(long(count)) + " vertices: a face needs at least 3");
+                        c_.fail("face " + std::to_string(i) + " has " + std::to_string(long(count)) + " vertices: a face needs at least 3");
                 }
                 for (double k = 0; k < count; ++k) {
-                    double v = 0;
-                    if (ascii) {
-                        std::string_view w;
-                        if (!next_word(w)) truncated(i);
-                        bool ok = number(w, v);
-                        if (ok && kPlyTypes[p.type].integral) {
-                            long long iv;
-                            ok = integer(w, iv) && double(iv) >= kPlyTypes[p.type].lo && double(iv) <= kPlyTypes[p.type].hi;
-                        }
-                        // NaN/Inf are load_mesh's to name (with their line); a finite value beyond the
-                        // type's range would become Inf (float) or wrap (integers) inside OpenMesh.
-                        if (!ok && !(number(w, v) && !std::isfinite(v)))
-                            c.fail_line(line_no, "'" + e.name + "' item " + std::to_string(i) + ", property '" + p.name +
-                                                     "': " + quoted(w) + " is not a " + kPlyTypes[p.type].name +
-                                                     (kPlyTypes[p.type].integral ? "" : " (or is beyond its range)"));
-                        if (ok && std::isfinite(v) && (v < kPlyTypes[p.type].lo || v > kPlyTypes[p.type].hi))
-                            c.fail_line(line_no, "'" + e.name + "' item " + std::to_string(i) + ", property '" + p.name +
-                                                     "': " + quoted(w) + " is beyond the range of a " + kPlyTypes[p.type].name);
-                    } else {
-                        const std::size_t b = std::size_t(kPlyTypes[p.type].bytes);
-                        if (d.size() - pos < b) truncated(i);
-                        if (indices) v = ply_binary_value(reinterpret_cast<const unsigned char*>(d.data()) + pos, p.type, big);
-                        pos += b;
-                    }
-                    if (indices && !(v >= 0 && v < nvertices))
-                        c.fail("face " + std::to_string(i) + " names vertex " + std::to_string((long long)v) + ", but the file has " +
-                               std::to_string(vertex->count) + " vertices");
+                    const double v = ascii_ ? ascii_value(e, p, i) : binary_value(e, p, i, indices);
+                    if (indices && !(v >= 0 && v < nvertices_))
+                        c_.fail("face " + std::to_string(i) + " names vertex " + std::to_string((long long)v) + ", but the file has " +
+                                std::to_string(vertex_.count) + " vertices");
                 }
             }
         }
     }
+
+private:
+    // ASCII: the next whitespace-separated word, counting the lines it passes (for messages).
+    bool next_word(std::string_view& w) {
+        while (pos_ < d_.size() && is_space(d_[pos_])) {
+            if (d_[pos_] == '\n') ++line_no_;
+            ++pos_;
+        }
+        const std::size_t s = pos_;
+        while (pos_ < d_.size() && !is_space(d_[pos_])) ++pos_;
+        w = d_.substr(s, pos_ - s);
+        return pos_ > s;
+    }
+
+    [[noreturn]] void truncated(const PlyElement& e, std::uint64_t item) const {
+        c_.fail("the file ends after " + std::to_string(item) + " of the " + std::to_string(e.count) + " '" + e.name +
+                    "' items its header declares: it is truncated",
+                "re-export it");
+    }
+
+    double list_length(const PlyElement& e, const PlyProperty& p, std::uint64_t i) {
+        if (ascii_) {
+            std::string_view w;
+            long long k;
+            if (!next_word(w)) truncated(e, i);
+            if (!integer(w, k) || k < 0 || double(k) > kPlyTypes[p.count_type].hi)
+                c_.fail_line(line_no_, "'" + e.name + "' item " + std::to_string(i) + ": list length " + quoted(w) +
+                                           " is not a count of type " + kPlyTypes[p.count_type].name);
+            return double(k);
+        }
+        if (d_.size() - pos_ < std::size_t(kPlyTypes[p.count_type].bytes)) truncated(e, i);
+        const double count = ply_binary_value(reinterpret_cast<const unsigned char*>(d_.data()) + pos_, p.count_type, big_);
+        pos_ += std::size_t(kPlyTypes[p.count_type].bytes);
+        if (count < 0) c_.fail("'" + e.name + "' item " + std::to_string(i) + " has a negative list length");
+        return count;
+    }
+
+    double ascii_value(const PlyElement& e, const PlyProperty& p, std::uint64_t i) {
+        double v = 0;
+        std::string_view w;
+        if (!next_word(w)) truncated(e, i);
+        bool ok = number(w, v);
+        if (ok && kPlyTypes[p.type].integral) {
+            long long iv;
+            ok = integer(w, iv) && double(iv) >= kPlyTypes[p.type].lo && double(iv) <= kPlyTypes[p.type].hi;
+        }
+        // NaN/Inf are load_mesh's to name (with their line); a finite value beyond the
+        // type's range would become Inf (float) or wrap (integers) inside OpenMesh.
+        if (!ok && !(number(w, v) && !std::isfinite(v)))
+            c_.fail_line(line_no_, "'" + e.name + "' item " + std::to_string(i) + ", property '" + p.name +
+                                       "': " + quoted(w) + " is not a " + kPlyTypes[p.type].name +
+                                       (kPlyTypes[p.type].integral ? "" : " (or is beyond its range)"));
+        if (ok && std::isfinite(v) && (v < kPlyTypes[p.type].lo || v > kPlyTypes[p.type].hi))
+            c_.fail_line(line_no_, "'" + e.name + "' item " + std::to_string(i) + ", property '" + p.name +
+                                       "': " + quoted(w) + " is beyond the range of a " + kPlyTypes[p.type].name);
+        return v;
+    }
+
+    // Binary: skips the value; reads it only for face indices (0 otherwise).
+    double binary_value(const PlyElement& e, const PlyProperty& p, std::uint64_t i, bool indices) {
+        double v = 0;
+        const std::size_t b = std::size_t(kPlyTypes[p.type].bytes);
+        if (d_.size() - pos_ < b) truncated(e, i);
+        if (indices) v = ply_binary_value(reinterpret_cast<const unsigned char*>(d_.data()) + pos_, p.type, big_);
+        pos_ += b;
+        return v;
+    }
+
+    std::string_view d_;
+    const Checker& c_;
+    bool ascii_, big_;
+    std::size_t pos_;
+    std::size_t line_no_;   // ASCII: line of the next word (for messages)
+    const PlyElement& vertex_;
+    double nvertices_;
+};
+
+void check_ply(std::string_view d, const Checker& c) {
+    Lines lines(d);
+    const PlyHeader header = read_ply_header(lines, c);
+    const PlyElement& vertex = ply_vertex_element(header.elements, c);
+    PlyBody body(d, c, header.format, lines.offset(), lines.number() + 1, vertex);
+    for (const auto& e : header.elements) body.walk(e);
 }
 
 // ---- OFF ---------------------------------------------------------------------------------------------

@@ -63,129 +63,144 @@ PhongNormalizedConsts normalized_consts(const std::vector<double>& p, double nor
     return k;
 }
 
+ModelInfo phong_model() {
+    ModelInfo m = base("phong", "Phong: albedo max(0, NoL) + ks specular [NoL > 0] max(0, RoV)^n", kPhong, "phong_eval");
+    m.params = {exponent_param(32.0), ks_param()};
+    m.pack = packer<PhongConsts>(phong_consts);
+    m.reciprocal = false;          // value / NoL = albedo + ks RoV^n / NoL
+    m.energy_conserving = false;   // un-normalised lobe added to a full Lambert term
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
+        {"n=10000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
+    };
+    return m;
+}
+
+ModelInfo phong_seed001_model() {
+    ModelInfo m = base("phong_seed001",
+                       "seed 001's Phong: albedo max(0, NoL) + specular_power specular max(0, RoV)^(gloss/4), ungated",
+                       "seed 001 (Phong lighting); the reference is phong (gated; n = gloss / 4)", "phong_seed001_eval");
+    m.params = {gloss_param(), specular_power_param()};
+    m.pack = packer<PhongConsts>([](const std::vector<double>& p) {
+        PhongConsts k{};
+        k.n = float(p[0] / 4.0);   // seed 001: pow(RdotV, _SpecularGloss / 4)
+        k.ks = float(p[1]);
+        return k;
+    });
+    m.reciprocal = false;
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
+        {"gloss=40000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
+    };
+    return m;
+}
+
+ModelInfo phong_normalized_model() {
+    ModelInfo m = base("phong_normalized",
+                       "energy-normalised Phong: (1-ks) albedo NoL + ks specular (n+2)/2 RoV^n NoL (pi f_r NoL)",
+                       "Lewis (1994) Making shaders more physically plausible; Lafortune & Willems (1994) modified Phong",
+                       "phong_normalized_eval");
+    m.params = {exponent_param(32.0), ks_fraction_param()};
+    m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
+        return normalized_consts(p, (p[0] + 2.0) / 2.0);
+    });
+    m.reciprocal = true;          // RoV = R(L).V = R(V).L and value / NoL has no other L, V asymmetry
+    m.energy_conserving = true;   // lobe albedo 1 at V = N, less elsewhere; (1 - ks) + ks <= 1
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 1.33e-5, 4e-5, 1.32e-5, 4e-5},
+        {"n=10000", 3.10e-3, 9e-3, 3.10e-3, 9e-3},
+    };
+    return m;
+}
+
+ModelInfo blinn_phong_model() {
+    ModelInfo m = base("blinn_phong", "Blinn-Phong: albedo max(0, NoL) + ks specular [NoL > 0] max(0, NoH)^n", kBlinn,
+                       "blinn_phong_eval");
+    m.params = {exponent_param(128.0), ks_param()};
+    m.pack = packer<PhongConsts>(phong_consts);
+    m.reciprocal = false;          // value / NoL = albedo + ks NoH^n / NoL: reciprocal only as f_r (normalized)
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
+        {"n=10000", 9.40e-4, 3e-3, 9.40e-4, 3e-3},
+    };
+    return m;
+}
+
+ModelInfo blinn_phong_seed001_model() {
+    ModelInfo m = base("blinn_phong_seed001",
+                       "seed 001's Blinn-Phong: albedo max(0, NoL) + specular_power specular max(0, NoH)^gloss, ungated",
+                       "seed 001 (Blinn-Phong lighting; its N.H variable is named NdotV); the reference is blinn_phong",
+                       "blinn_phong_seed001_eval");
+    m.params = {gloss_param(), specular_power_param()};
+    m.pack = packer<PhongConsts>(phong_consts);   // seed 001: pow(NdotH, _SpecularGloss), no / 4
+    m.reciprocal = false;
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
+        {"gloss=40000", 1.09e-3, 3e-3, 1.09e-3, 3e-3},
+    };
+    return m;
+}
+
+ModelInfo blinn_phong_normalized_model() {
+    ModelInfo m = base("blinn_phong_normalized",
+                       "energy-normalised Blinn-Phong, exact factor: (1-ks) albedo NoL + ks specular K_n NoH^n NoL",
+                       "Blinn (1977); normalisation K_n = (n+2)(n+4) / (8 (2^(-n/2) + n)): Giesen (2009)",
+                       "blinn_phong_normalized_eval");
+    m.params = {exponent_param(128.0), ks_fraction_param()};
+    m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
+        return normalized_consts(p, blinn_phong_exact_norm(p[0]));
+    });
+    m.reciprocal = true;          // H, hence NoH, is symmetric in L and V
+    m.energy_conserving = true;   // lobe albedo exactly 1 at V = N, less elsewhere (tests/test_phong.cpp)
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
+        {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
+    };
+    return m;
+}
+
+ModelInfo blinn_phong_normalized_approx_model() {
+    ModelInfo m = base("blinn_phong_normalized_approx",
+                       "Blinn-Phong with the common (n+8)/(8 pi) factor: (1-ks) albedo NoL + ks specular (n+8)/8 NoH^n NoL",
+                       "Akenine-Moller, Haines, Hoffman (2008) Real-Time Rendering 3rd ed.; exact factor: Giesen (2009)",
+                       "blinn_phong_normalized_approx_eval");
+    m.params = {exponent_param(128.0), ks_fraction_param()};
+    m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
+        return normalized_consts(p, (p[0] + 8.0) / 8.0);
+    });
+    m.reciprocal = true;
+    m.energy_conserving = false;   // (n+8)/8 exceeds the exact factor: lobe albedo up to 1.074 (n = 11)
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
+        {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
+    };
+    return m;
+}
+
 }  // namespace
 
 // The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 30 in the catalogue.
 ModelFamily register_phong_family() {
     ModelFamily family{"phong", 30, "Phong and Blinn-Phong", "docs/models/phong.md", {}};
-    std::vector<ModelInfo>& out = family.models;
-    {
-        ModelInfo m = base("phong", "Phong: albedo max(0, NoL) + ks specular [NoL > 0] max(0, RoV)^n", kPhong, "phong_eval");
-        m.params = {exponent_param(32.0), ks_param()};
-        m.pack = packer<PhongConsts>(phong_consts);
-        m.reciprocal = false;          // value / NoL = albedo + ks RoV^n / NoL
-        m.energy_conserving = false;   // un-normalised lobe added to a full Lambert term
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
-            {"n=10000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("phong_seed001",
-                           "seed 001's Phong: albedo max(0, NoL) + specular_power specular max(0, RoV)^(gloss/4), ungated",
-                           "seed 001 (Phong lighting); the reference is phong (gated; n = gloss / 4)", "phong_seed001_eval");
-        m.params = {gloss_param(), specular_power_param()};
-        m.pack = packer<PhongConsts>([](const std::vector<double>& p) {
-            PhongConsts k{};
-            k.n = float(p[0] / 4.0);   // seed 001: pow(RdotV, _SpecularGloss / 4)
-            k.ks = float(p[1]);
-            return k;
-        });
-        m.reciprocal = false;
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 9.53e-6, 3e-5, 9.53e-6, 3e-5},
-            {"gloss=40000", 2.19e-3, 6e-3, 2.19e-3, 6e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("phong_normalized",
-                           "energy-normalised Phong: (1-ks) albedo NoL + ks specular (n+2)/2 RoV^n NoL (pi f_r NoL)",
-                           "Lewis (1994) Making shaders more physically plausible; Lafortune & Willems (1994) modified Phong",
-                           "phong_normalized_eval");
-        m.params = {exponent_param(32.0), ks_fraction_param()};
-        m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
-            return normalized_consts(p, (p[0] + 2.0) / 2.0);
-        });
-        m.reciprocal = true;          // RoV = R(L).V = R(V).L and value / NoL has no other L, V asymmetry
-        m.energy_conserving = true;   // lobe albedo 1 at V = N, less elsewhere; (1 - ks) + ks <= 1
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 1.33e-5, 4e-5, 1.32e-5, 4e-5},
-            {"n=10000", 3.10e-3, 9e-3, 3.10e-3, 9e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("blinn_phong", "Blinn-Phong: albedo max(0, NoL) + ks specular [NoL > 0] max(0, NoH)^n", kBlinn,
-                           "blinn_phong_eval");
-        m.params = {exponent_param(128.0), ks_param()};
-        m.pack = packer<PhongConsts>(phong_consts);
-        m.reciprocal = false;          // value / NoL = albedo + ks NoH^n / NoL: reciprocal only as f_r (normalized)
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
-            {"n=10000", 9.40e-4, 3e-3, 9.40e-4, 3e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("blinn_phong_seed001",
-                           "seed 001's Blinn-Phong: albedo max(0, NoL) + specular_power specular max(0, NoH)^gloss, ungated",
-                           "seed 001 (Blinn-Phong lighting; its N.H variable is named NdotV); the reference is blinn_phong",
-                           "blinn_phong_seed001_eval");
-        m.params = {gloss_param(), specular_power_param()};
-        m.pack = packer<PhongConsts>(phong_consts);   // seed 001: pow(NdotH, _SpecularGloss), no / 4
-        m.reciprocal = false;
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 2.26e-5, 6e-5, 2.26e-5, 6e-5},
-            {"gloss=40000", 1.09e-3, 3e-3, 1.09e-3, 3e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("blinn_phong_normalized",
-                           "energy-normalised Blinn-Phong, exact factor: (1-ks) albedo NoL + ks specular K_n NoH^n NoL",
-                           "Blinn (1977); normalisation K_n = (n+2)(n+4) / (8 (2^(-n/2) + n)): Giesen (2009)",
-                           "blinn_phong_normalized_eval");
-        m.params = {exponent_param(128.0), ks_fraction_param()};
-        m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
-            return normalized_consts(p, blinn_phong_exact_norm(p[0]));
-        });
-        m.reciprocal = true;          // H, hence NoH, is symmetric in L and V
-        m.energy_conserving = true;   // lobe albedo exactly 1 at V = N, less elsewhere (tests/test_phong.cpp)
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
-            {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("blinn_phong_normalized_approx",
-                           "Blinn-Phong with the common (n+8)/(8 pi) factor: (1-ks) albedo NoL + ks specular (n+8)/8 NoH^n NoL",
-                           "Akenine-Moller, Haines, Hoffman (2008) Real-Time Rendering 3rd ed.; exact factor: Giesen (2009)",
-                           "blinn_phong_normalized_approx_eval");
-        m.params = {exponent_param(128.0), ks_fraction_param()};
-        m.pack = packer<PhongNormalizedConsts>([](const std::vector<double>& p) {
-            return normalized_consts(p, (p[0] + 8.0) / 8.0);
-        });
-        m.reciprocal = true;
-        m.energy_conserving = false;   // (n+8)/8 exceeds the exact factor: lobe albedo up to 1.074 (n = 11)
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            {"*", 2.38e-5, 7e-5, 2.38e-5, 7e-5},
-            {"n=10000", 1.59e-3, 5e-3, 1.59e-3, 5e-3},
-        };
-        out.push_back(m);
-    }
+    family.models = {
+        phong_model(),
+        phong_seed001_model(),
+        phong_normalized_model(),
+        blinn_phong_model(),
+        blinn_phong_seed001_model(),
+        blinn_phong_normalized_model(),
+        blinn_phong_normalized_approx_model(),
+    };
     return family;
 }
 

@@ -88,118 +88,129 @@ McEwenConsts mcewen_consts(const std::vector<double>& p) {
     return c;
 }
 
+ModelInfo lunar_lambert_mcewen_model() {
+    ModelInfo m = base("lunar_lambert_mcewen",
+                       "Lunar-Lambert with McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3 (g in degrees)",
+                       "McEwen (1996) LPSC 27:841 (lunar L(g)); ISIS3 LunarLambertMcEwen", "lunar_lambert_mcewen_eval");
+    m.params = kMcEwenParams;
+    m.pack = packer<McEwenConsts>(mcewen_consts);
+    m.reciprocal = true;   // L depends on g only, which is symmetric in L and V
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {{"*", 2.53e-5, 7e-5, 2.53e-5, 7e-5}};
+    return m;
+}
+
+ModelInfo lunar_lambert_mcewen_ratio_model() {
+    ModelInfo m = base("lunar_lambert_mcewen_ratio",
+                       "ISIS LunarLambertMcEwen's value: R30 / r(g, i, e), r Lunar-Lambert with McEwen's L(g)",
+                       "McEwen (1996) LPSC 27:841; ISIS3 LunarLambertMcEwen (the normalising form it returns)",
+                       "lunar_lambert_mcewen_ratio_eval");
+    m.params = kMcEwenParams;
+    m.pack = packer<McEwenConsts>([](const std::vector<double>& p) {
+        McEwenConsts c = mcewen_consts(p);
+        // R30 = r at the standard geometry g = 30, i = 30, e = 0 (mu0 = cos 30, mu = 1), ISIS's choice
+        const double L30 = mcewen_L(p, 30.0), c30 = std::cos(30.0 * kPi / 180.0);
+        c.r30 = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
+        c.r_floor = 1e-3f;   // floor of r (kernel comment)
+        return c;
+    });
+    m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {
+        // R30 / r with r near 0 where McEwen's L(g) < 0
+        {"*", 2.35e-4, 7e-4, 2.35e-4, 7e-4},
+    };
+    return m;
+}
+
+ModelInfo hapke_hen_model() {
+    ModelInfo m = base("hapke_hen",
+                       "Hapke 1981/84/86 with two-term Henyey-Greenstein P(g), opposition B(g), roughness theta",
+                       "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeHen",
+                       "hapke_hen_eval");
+    m.params = hapke_common();
+    m.params.push_back({"hg1", 0.0, -0.9999, 0.9999,
+                        "Henyey-Greenstein asymmetry b (ISIS Hg1, -1 < b < 1): lobe 1 (1 + b^2 + 2b cos g)"});
+    m.params.push_back({"hg2", 0.0, 0.0, 1.0,
+                        "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});
+    m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+        HapkeConsts c = hapke_common_consts(p);
+        c.phase.hg2 = hg2_consts(p[4], p[5]);
+        return c;
+    });
+    m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
+    m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {{"*", 4.00e-6, 1.2e-5, 4.00e-6, 1.2e-5}};
+    return m;
+}
+
+ModelInfo hapke_leg_model() {
+    ModelInfo m = base("hapke_leg", "Hapke 1981/84/86 with Legendre P(g) = 1 + b cos g + c (3 cos^2 g - 1)/2",
+                       "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeLeg",
+                       "hapke_leg_eval");
+    m.params = hapke_common();
+    m.params.push_back({"bh", 0.0, -1.0, 1.0, "Legendre coefficient b of cos g (ISIS Bh, -1 <= b <= 1)"});
+    m.params.push_back({"ch", 0.0, -1.0, 1.0, "Legendre coefficient c of P2(cos g) (ISIS Ch, -1 <= c <= 1)"});
+    m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+        HapkeConsts c = hapke_common_consts(p);
+        c.phase.legendre.b = float(p[4]);
+        c.phase.legendre.c = float(p[5]);
+        return c;
+    });
+    m.reciprocal = true;
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {{"*", 1.07e-5, 3e-5, 1.07e-5, 3e-5}};
+    return m;
+}
+
+ModelInfo hapke_2012_model() {
+    ModelInfo m = base("hapke_2012",
+                       "Hapke 2002/2012: better H function, porosity K, coherent backscatter; HG2 P(g), roughness",
+                       "Hapke (2002) Icarus 157:523, (2008) Icarus 195:918, (2012) Theory of Reflectance and "
+                       "Emittance Spectroscopy, eq. 12.55",
+                       "hapke_2012_eval");
+    m.params = hapke_common();
+    m.params.push_back({"hg1", 0.0, -0.9999, 0.9999, "Henyey-Greenstein asymmetry b, as hapke_hen"});
+    m.params.push_back({"hg2", 0.0, 0.0, 1.0, "weight of the second Henyey-Greenstein lobe, as hapke_hen"});
+    m.params.push_back({"phi", 0.0, 0.0, 0.75,
+                        "filling factor phi (porosity 1 - phi): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)); 0: K = 1"});
+    m.params.push_back({"bc0", 0.0, 0.0, 10.0, "coherent-backscatter amplitude B_C0 (0: none)"});
+    m.params.push_back({"hc", 0.0, 0.0, 10.0, "coherent-backscatter width h_C (0: none)"});
+    m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
+        HapkeConsts c = hapke_common_consts(p);
+        c.phase.hg2 = hg2_consts(p[4], p[5]);
+        const double w = p[0], gamma = std::sqrt(1.0 - w), phi = p[6], bc0 = p[7], hc = p[8];
+        const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
+        c.w = float(w);
+        c.r0 = float((1.0 - gamma) / (1.0 + gamma));
+        c.K = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
+        c.bc0 = hc > 0.0 ? float(bc0) : 0.0f;
+        c.inv_hc = hc > 0.0 ? float(1.0 / hc) : 0.0f;
+        return c;
+    });
+    m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
+    m.energy_conserving = false;
+    // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
+    m.precision = {{"*", 1.85e-6, 6e-6, 1.85e-6, 6e-6}};
+    return m;
+}
+
 }  // namespace
 
 // The family as it registers itself (host/models/catalogue.hpp, ModelFamily): rank 90 in the catalogue.
 ModelFamily register_planetary_family() {
     ModelFamily family{"planetary", 90, "planetary (ISIS3's photometric laws)", "docs/photometry.md", {}};
-    std::vector<ModelInfo>& out = family.models;
-    {
-        ModelInfo m = base("lunar_lambert_mcewen",
-                           "Lunar-Lambert with McEwen's L(g) = 1 + m1 g + m2 g^2 + m3 g^3 (g in degrees)",
-                           "McEwen (1996) LPSC 27:841 (lunar L(g)); ISIS3 LunarLambertMcEwen", "lunar_lambert_mcewen_eval");
-        m.params = kMcEwenParams;
-        m.pack = packer<McEwenConsts>(mcewen_consts);
-        m.reciprocal = true;   // L depends on g only, which is symmetric in L and V
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 2.53e-5, 7e-5, 2.53e-5, 7e-5}};
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("lunar_lambert_mcewen_ratio",
-                           "ISIS LunarLambertMcEwen's value: R30 / r(g, i, e), r Lunar-Lambert with McEwen's L(g)",
-                           "McEwen (1996) LPSC 27:841; ISIS3 LunarLambertMcEwen (the normalising form it returns)",
-                           "lunar_lambert_mcewen_ratio_eval");
-        m.params = kMcEwenParams;
-        m.pack = packer<McEwenConsts>([](const std::vector<double>& p) {
-            McEwenConsts c = mcewen_consts(p);
-            // R30 = r at the standard geometry g = 30, i = 30, e = 0 (mu0 = cos 30, mu = 1), ISIS's choice
-            const double L30 = mcewen_L(p, 30.0), c30 = std::cos(30.0 * kPi / 180.0);
-            c.r30 = float(2.0 * L30 * c30 / (1.0 + c30) + (1.0 - L30) * c30);
-            c.r_floor = 1e-3f;   // floor of r (kernel comment)
-            return c;
-        });
-        m.reciprocal = false;   // a ratio R30 / r, not a reflectance: value / NoL is not symmetric
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {
-            // R30 / r with r near 0 where McEwen's L(g) < 0
-            {"*", 2.35e-4, 7e-4, 2.35e-4, 7e-4},
-        };
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("hapke_hen",
-                           "Hapke 1981/84/86 with two-term Henyey-Greenstein P(g), opposition B(g), roughness theta",
-                           "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeHen",
-                           "hapke_hen_eval");
-        m.params = hapke_common();
-        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999,
-                            "Henyey-Greenstein asymmetry b (ISIS Hg1, -1 < b < 1): lobe 1 (1 + b^2 + 2b cos g)"});
-        m.params.push_back({"hg2", 0.0, 0.0, 1.0,
-                            "weight c of the second lobe (1 + b^2 - 2b cos g) (ISIS Hg2, 0 <= c <= 1)"});
-        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
-            HapkeConsts c = hapke_common_consts(p);
-            c.phase.hg2 = hg2_consts(p[4], p[5]);
-            return c;
-        });
-        m.reciprocal = true;   // P, B depend on g only; H(mu0) H(mu) and the roughness S are symmetric in i, e
-        m.energy_conserving = false;   // the opposition surge adds light (B0 up to 10)
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 4.00e-6, 1.2e-5, 4.00e-6, 1.2e-5}};
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("hapke_leg", "Hapke 1981/84/86 with Legendre P(g) = 1 + b cos g + c (3 cos^2 g - 1)/2",
-                           "Hapke (1981) JGR 86:3039, (1984) Icarus 59:41, (1986) Icarus 67:264; ISIS3 HapkeLeg",
-                           "hapke_leg_eval");
-        m.params = hapke_common();
-        m.params.push_back({"bh", 0.0, -1.0, 1.0, "Legendre coefficient b of cos g (ISIS Bh, -1 <= b <= 1)"});
-        m.params.push_back({"ch", 0.0, -1.0, 1.0, "Legendre coefficient c of P2(cos g) (ISIS Ch, -1 <= c <= 1)"});
-        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
-            HapkeConsts c = hapke_common_consts(p);
-            c.phase.legendre.b = float(p[4]);
-            c.phase.legendre.c = float(p[5]);
-            return c;
-        });
-        m.reciprocal = true;
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 1.07e-5, 3e-5, 1.07e-5, 3e-5}};
-        out.push_back(m);
-    }
-    {
-        ModelInfo m = base("hapke_2012",
-                           "Hapke 2002/2012: better H function, porosity K, coherent backscatter; HG2 P(g), roughness",
-                           "Hapke (2002) Icarus 157:523, (2008) Icarus 195:918, (2012) Theory of Reflectance and "
-                           "Emittance Spectroscopy, eq. 12.55",
-                           "hapke_2012_eval");
-        m.params = hapke_common();
-        m.params.push_back({"hg1", 0.0, -0.9999, 0.9999, "Henyey-Greenstein asymmetry b, as hapke_hen"});
-        m.params.push_back({"hg2", 0.0, 0.0, 1.0, "weight of the second Henyey-Greenstein lobe, as hapke_hen"});
-        m.params.push_back({"phi", 0.0, 0.0, 0.75,
-                            "filling factor phi (porosity 1 - phi): K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)); 0: K = 1"});
-        m.params.push_back({"bc0", 0.0, 0.0, 10.0, "coherent-backscatter amplitude B_C0 (0: none)"});
-        m.params.push_back({"hc", 0.0, 0.0, 10.0, "coherent-backscatter width h_C (0: none)"});
-        m.pack = packer<HapkeConsts>([](const std::vector<double>& p) {
-            HapkeConsts c = hapke_common_consts(p);
-            c.phase.hg2 = hg2_consts(p[4], p[5]);
-            const double w = p[0], gamma = std::sqrt(1.0 - w), phi = p[6], bc0 = p[7], hc = p[8];
-            const double y = 1.209 * std::pow(phi, 2.0 / 3.0);
-            c.w = float(w);
-            c.r0 = float((1.0 - gamma) / (1.0 + gamma));
-            c.K = float(phi > 0.0 ? -std::log1p(-y) / y : 1.0);
-            c.bc0 = hc > 0.0 ? float(bc0) : 0.0f;
-            c.inv_hc = hc > 0.0 ? float(1.0 / hc) : 0.0f;
-            return c;
-        });
-        m.reciprocal = true;   // K, H(mu0/K) H(mu/K), B_SH, B_CB, P and S are all symmetric in i and e
-        m.energy_conserving = false;
-        // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 1.85e-6, 6e-6, 1.85e-6, 6e-6}};
-        out.push_back(m);
-    }
+    family.models = {
+        lunar_lambert_mcewen_model(),
+        lunar_lambert_mcewen_ratio_model(),
+        hapke_hen_model(),
+        hapke_leg_model(),
+        hapke_2012_model(),
+    };
     return family;
 }
 

@@ -5,16 +5,11 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace shadelab::moon {
 
 namespace {
-std::string num(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-}
-
 DiscPixel make_pixel(const Image& img, const Disc& d, const SunGeometry& sun, int x, int y, bool& ok) {
     DiscPixel p;
     p.x = x;

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "plot/gnuplot.hpp"
 
 namespace fs = std::filesystem;
@@ -77,7 +78,7 @@ void plot_minnaert(const std::string& csv, const std::string& png, const Minnaer
     s << gnuplot_preamble(png, 900, 700);
     s << "set title " << gp_string(title) << "\n"
       << "set xlabel 'ln(mu mu0)'\nset ylabel 'ln(mu I)'\nset key top left\n"
-      << "f(x) = " << std::setprecision(12) << f.ln_B0 << " + " << f.k << " * x\n"
+      << "f(x) = " << num(f.ln_B0, 12) << " + " << num(f.k, 12) << " * x\n"
       << "set label 1 \"k = " << gp_number(f.k) << " +- " << gp_number(f.se_k, 2) << "\\nB0 = " << gp_number(f.B0) << " +- "
       << gp_number(f.se_B0, 2) << "\\nrms residual " << gp_number(f.rms, 3) << "\\n" << f.used << " pixels\""
       << " at graph 0.6, graph 0.25\n"

@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
 #include "core/text.hpp"
 
@@ -127,9 +128,8 @@ void write_values_csv(const std::string& path, const GeometryTable& t, const std
         out += j == t.value_column ? std::string("value") : t.header[j];
     }
     out += '\n';
-    char buf[32];
     for (std::size_t r = 0; r < t.rows.size(); ++r) {
-        std::snprintf(buf, sizeof buf, "%.9g", values[r]);
+        const std::string buf = num(values[r], 9);
         if (t.value_column >= t.header.size()) {   // appended: the line as it was, then the value
             out += t.rows[r];
             out += ',';

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 
 namespace shadelab::photometry {
 
@@ -14,12 +15,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr int kRadius = 50;   // samples: the half disc x = -50..50, y = 0..50
-
-std::string num(double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-}
 
 // One sample of the sphere: its incidence and emission at phase g (degrees).
 struct Sample {
@@ -215,9 +210,7 @@ std::string empirical_pvl(const EmpiricalTable& t, const EmpiricalOptions& o, co
     auto list = [&](const char* key, auto get) {
         s << "    " << key << " = (";
         for (std::size_t k = 0; k < t.rows.size(); ++k) {
-            char buf[40];
-            std::snprintf(buf, sizeof buf, "%.14g", get(t.rows[k]));
-            s << (k ? ", " : "") << (k && k % 4 == 0 ? "\n        " : "") << buf;
+            s << (k ? ", " : "") << (k && k % 4 == 0 ? "\n        " : "") << num(get(t.rows[k]), 14);
         }
         s << ")\n";
     };

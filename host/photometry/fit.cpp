@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/lm.hpp"
 #include "models/catalogue.hpp"
 #include "shade/shader.hpp"
@@ -225,12 +226,6 @@ void normal_equations(const Problem& P, const std::vector<double>& x, const std:
 }
 
 bool on_bound(double v, double lo, double hi) { return v <= lo || v >= hi; }
-
-std::string num(double v, int digits = 6) {
-    std::ostringstream s;
-    s << std::setprecision(digits) << v;
-    return s.str();
-}
 
 // Standard errors, correlations and the directions the data do not determine, at the converged x.
 void uncertainties(const Problem& P, FitResult& r, const std::vector<double>& A) {
@@ -511,9 +506,9 @@ std::string describe_fit(const FitResult& r) {
         for (const auto& p : r.params) s << std::setw(9) << p.name;
         s << "\n";
         for (std::size_t a = 0; a < k; ++a) {
-            s << std::left << std::setw(10) << r.params[a].name << std::right << std::fixed << std::setprecision(4);
-            for (std::size_t b = 0; b < k; ++b) s << std::setw(9) << r.correlation[a * k + b];
-            s << std::defaultfloat << "\n";
+            s << std::left << std::setw(10) << r.params[a].name << std::right;
+            for (std::size_t b = 0; b < k; ++b) s << std::setw(9) << fixed(r.correlation[a * k + b], 4);
+            s << "\n";
         }
     }
     for (const auto& n : r.notes) s << "note: " << n << "\n";

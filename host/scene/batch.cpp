@@ -122,6 +122,7 @@ public:
     BatchSummary run();
 
 private:
+    void run_jobs(const std::vector<BatchJob>& jobs, BatchSummary& sum, std::ostream& log);
     Prepared prepare(const BatchJob& job);
     void shade(Prepared& p);
     static void write(Prepared& p);
@@ -304,13 +305,48 @@ std::string job_line(const JobResult& r, std::size_t pos, std::size_t count) {
     return line + " -> " + outs;
 }
 
+// Reports each finished job, in job order: its warnings, its line on the progress display, its count in the summary.
+class JobReporter {
+public:
+    JobReporter(BatchSummary& sum, Progress& progress, std::size_t count) : sum_(sum), progress_(progress), count_(count) {}
+
+    void operator()(Prepared& done) {
+        JobResult& r = done.result;
+        ++reported_;
+        for (const auto& w : r.warnings) progress_.message("warning: " + r.job.label() + ": " + w);
+        if (r.status == JobResult::Status::Failed) {
+            ++sum_.failed;
+            progress_.finish(false, false, r.error);
+        } else if (r.status == JobResult::Status::Skipped) {
+            ++sum_.skipped;
+            progress_.finish(true, true, job_line(r, reported_, count_));
+        } else {
+            ++sum_.ok;
+            progress_.finish(true, false, job_line(r, reported_, count_));
+        }
+        sum_.jobs.push_back(std::move(r));
+    }
+
+private:
+    BatchSummary& sum_;
+    Progress& progress_;
+    std::size_t count_;
+    std::size_t reported_ = 0;
+};
+
+// The jobs of this shard (--shard I/N): every N-th of the full list, starting at the I-th.
+std::vector<BatchJob> shard_jobs(const std::vector<BatchJob>& all, const BatchOptions& opt) {
+    std::vector<BatchJob> jobs;
+    for (const auto& j : all)
+        if (int(j.index % std::size_t(opt.shard_count)) == opt.shard_index - 1) jobs.push_back(j);
+    return jobs;
+}
+
 BatchSummary Runner::run() {
     std::ostream& log = opt_.log ? *opt_.log : std::cerr;
     const auto t0 = clock_type::now();
     const std::vector<BatchJob> all = plan_all_jobs(opt_);
-    std::vector<BatchJob> jobs;
-    for (const auto& j : all)
-        if (int(j.index % std::size_t(opt_.shard_count)) == opt_.shard_index - 1) jobs.push_back(j);
+    const std::vector<BatchJob> jobs = shard_jobs(all, opt_);
     index_outputs(all);
 
     BatchSummary sum;
@@ -322,36 +358,30 @@ BatchSummary Runner::run() {
     const std::size_t built0 = rt_.programs_built();
 
     remove_stale(log);
+    run_jobs(jobs, sum, log);
+    sum.wall_ms = ms_since(t0);
+    sum.programs_built = rt_.programs_built() - built0;
+
+    write_reports(sum);
+    log_summary(log, sum, all.size());
+    return sum;
+}
+
+// Job i+1 is parsed, loaded and rasterised on its own thread while job i shades on this one (overlap), or
+// right before it shades (deferred: no second thread). Job i's images are written on their own thread while
+// job i+1 shades (writing PNG and EXR is single-threaded and often the longest stage); results are reported
+// in job order.
+void Runner::run_jobs(const std::vector<BatchJob>& jobs, BatchSummary& sum, std::ostream& log) {
     Progress progress(jobs.size(), log, opt_.progress);
-    // Job i+1 is parsed, loaded and rasterised on its own thread while job i shades on this one
-    // (overlap), or right before it shades (deferred: no second thread).
     auto launch = [&](std::size_t i) {
         return std::async(opt_.overlap ? std::launch::async : std::launch::deferred,
                           [this, &jobs, i] { return prepare(jobs[i]); });
     };
     std::future<Prepared> next;
     if (!jobs.empty()) next = launch(0);
-    // Job i's images are written on their own thread while job i+1 shades (writing PNG and EXR is
-    // single-threaded and often the longest stage); results are reported in job order.
     std::future<void> writing;
     Prepared written;
-    std::size_t reported = 0;
-    auto report = [&](Prepared& done) {
-        JobResult& r = done.result;
-        ++reported;
-        for (const auto& w : r.warnings) progress.message("warning: " + r.job.label() + ": " + w);
-        if (r.status == JobResult::Status::Failed) {
-            ++sum.failed;
-            progress.finish(false, false, r.error);
-        } else if (r.status == JobResult::Status::Skipped) {
-            ++sum.skipped;
-            progress.finish(true, true, job_line(r, reported, jobs.size()));
-        } else {
-            ++sum.ok;
-            progress.finish(true, false, job_line(r, reported, jobs.size()));
-        }
-        sum.jobs.push_back(std::move(r));
-    };
+    JobReporter report(sum, progress, jobs.size());
     auto finish_writing = [&] {
         if (!writing.valid()) return;
         const auto tw = clock_type::now();
@@ -380,12 +410,6 @@ BatchSummary Runner::run() {
     }
     finish_writing();
     progress.close();
-    sum.wall_ms = ms_since(t0);
-    sum.programs_built = rt_.programs_built() - built0;
-
-    write_reports(sum);
-    log_summary(log, sum, all.size());
-    return sum;
 }
 
 // Temporaries of an earlier run killed while writing (kill -9, power off): never complete, so removed.
