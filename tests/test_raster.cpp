@@ -703,6 +703,30 @@ TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raste
     }
 }
 
+TEST_CASE("raster: rasterize_into a reused buffer (a larger frame, a smaller one, the same again) equals rasterize", "[raster]") {
+    const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
+    const Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
+    const FragmentBuffer a = rasterize(bunny, cam, opts(256, 256, 2));
+    REQUIRE(a.size() > 10000);
+    FragmentBuffer reused;
+    rasterize_into(bunny, cam, opts(512, 512, 2), reused);    // more fragments than a
+    REQUIRE(reused.size() > a.size());
+    for (int round = 0; round < 2; ++round) {
+        if (round == 1) {
+            rasterize_into(bunny, cam, opts(64, 64, 2), reused);   // fewer
+            REQUIRE(reused.size() < a.size());
+        }
+        rasterize_into(bunny, cam, opts(256, 256, 2), reused);
+        INFO("round " << round);
+        CHECK(reused.width == a.width);
+        CHECK(reused.height == a.height);
+        check_same_fragments(a, reused);
+        CHECK(reused.triangle == a.triangle);
+        CHECK(reused.b1 == a.b1);
+        CHECK(reused.b2 == a.b2);
+    }
+}
+
 TEST_CASE("raster: thread counts beyond the rows, tiny images and lopsided scenes give identical results", "[raster]") {
     // Two overlapping quads in the top-left corner only (most bands get no triangles), on small images.
     Mesh m;
