@@ -48,55 +48,83 @@ bool strictly_increasing(const std::int32_t* pixel, std::size_t b, std::size_t e
 
 }  // namespace
 
-Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
+namespace {
+
+// Pixels [p0, p1) of an RGBA image: the fragments [f0, f1), whose pixel indices are strictly increasing and
+// inside the range, with their colour and alpha 1, every other pixel the background. Each pixel is written
+// once, in address order (no background pass under the fragments).
+void compose_range(const std::int32_t* pixel, const float* r, const float* g, const float* b, const float bg[4],
+                   std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1, float* out) {
+    auto background = [&](std::size_t from, std::size_t to) {
+        for (std::size_t p = from; p < to; ++p)
+            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+    };
+    std::size_t p = p0;
+    for (std::size_t i = f0; i < f1; ++i) {
+        const std::size_t q = std::size_t(pixel[i]);
+        background(p, q);
+        out[q * 4 + 0] = r[i];
+        out[q * 4 + 1] = g[i];
+        out[q * 4 + 2] = b[i];
+        out[q * 4 + 3] = 1.0f;
+        p = q + 1;
+    }
+    background(p, p1);
+}
+
+// Any order, one thread: the background everywhere, then the fragments (later ones win), each checked.
+void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], float* out) {
+    const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
+    for (std::size_t p = 0; p < npix; ++p)
+        for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::int32_t q = fb.pixel[i];
+        if (q < 0 || std::size_t(q) >= npix)
+            throw Error("internal: fragment " + std::to_string(i) + " has pixel index " + std::to_string(q) +
+                        " outside the " + std::to_string(fb.width) + "x" + std::to_string(fb.height) + " image");
+        for (std::size_t c = 0; c < 3; ++c) out[std::size_t(q) * 4 + c] = rgb[c * n + i];
+        out[std::size_t(q) * 4 + 3] = 1.0f;
+    }
+}
+
+}  // namespace
+
+void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
+                        Image& img) {
     if (fb.width <= 0 || fb.height <= 0)
         throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
     const std::size_t n = fb.size();
     if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
-    Image img;
     img.width = fb.width;
     img.height = fb.height;
     img.channels = 4;
-    resize_fresh(img.pixels, npix * 4);
+    size_for_frame(img.pixels, npix * 4);
     const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
     float* const out = img.pixels.data();
     const std::int32_t* const pixel = fb.pixel.data();
     // Rows in parallel when the fragments come in pixel order (as the rasteriser emits them): each thread
-    // fills its own pixel range and scatters the fragments that land in it, found by binary search.
+    // writes its own pixel range, with the fragments that land in it, found by binary search.
     const int threads = thread_count(0, npix / 65536);
     std::vector<char> sorted(std::size_t(threads), 0);
     run_parallel(threads, [&](int t) {
         const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
         sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
     });
-    const bool parallel = std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; });
-    auto fill = [&](std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1) {
-        for (std::size_t p = p0; p < p1; ++p)
-            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
-        for (std::size_t i = f0; i < f1; ++i) {
-            const std::size_t p = std::size_t(pixel[i]);
-            out[p * 4 + 0] = rgb[i];
-            out[p * 4 + 1] = rgb[n + i];
-            out[p * 4 + 2] = rgb[2 * n + i];
-            out[p * 4 + 3] = 1.0f;
-        }
-    };
-    if (!parallel) {   // any order: one thread, later fragments win, as before
-        fill(0, npix, 0, 0);
-        for (std::size_t i = 0; i < n; ++i)
-            if (pixel[i] < 0 || std::size_t(pixel[i]) >= npix)
-                throw Error("internal: fragment " + std::to_string(i) + " has pixel index " + std::to_string(pixel[i]) +
-                            " outside the " + std::to_string(fb.width) + "x" + std::to_string(fb.height) + " image");
-        fill(0, 0, 0, n);
-        return img;
-    }
+    if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; }))
+        return compose_unordered(fb, rgb, bg, out);
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
         const auto f0 = std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel;
         const auto f1 = std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel;
-        fill(p0, p1, std::size_t(f0), std::size_t(f1));
+        compose_range(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1, std::size_t(f0),
+                      std::size_t(f1), out);
     });
+}
+
+Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
+    Image img;
+    compose_image_into(fb, rgb, background, img);
     return img;
 }
 
