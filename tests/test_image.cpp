@@ -178,6 +178,31 @@ TEST_CASE("compose_image_into reusing an image of another size and content equal
     CHECK(fresh.at(1, 0, 3) == 0.125f);
 }
 
+TEST_CASE("8-bit writes count NaN and Inf while coding: refused in the last row block too, nothing left behind", "[image]") {
+    // 8-bit formats find NaN/Inf while coding row blocks (about 1 MB each) as they are written: a bad value in
+    // the first block, in the last one and on a 1-channel image must all be refused with the full count,
+    // leaving neither the target nor a temporary file; a clean image of the same size is written.
+    const fs::path dir = test::scratch_dir("image_nan8");
+    Image big(1024, 600, 4);   // 4 KB rows: 256 rows a block, so the last value lies in the third block
+    for (float& v : big.pixels) v = 0.5f;
+    big.pixels.back() = std::nanf("");
+    big.at(3, 0, 0) = -INFINITY;
+    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("2 pixel values are NaN or Inf"));
+    big.at(3, 0, 0) = 0.5f;
+    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("1 pixel values are NaN or Inf"));
+    Image grey(5, 3, 1);
+    grey.at(4, 2, 0) = INFINITY;
+    REQUIRE_THROWS_WITH(write_image((dir / "grey.png").string(), grey), Catch::Contains("1 pixel values are NaN or Inf"));
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir)) left += e.is_regular_file() ? 1 : 0;
+    CHECK(left == 0);
+    big.pixels.back() = 0.25f;
+    write_image((dir / "late.png").string(), big);
+    const Image back = read_image((dir / "late.png").string());
+    CHECK(back.at(1023, 599, 3) == Approx(64.0 / 255.0).margin(1e-6));   // alpha 0.25 -> code 64
+    fs::remove_all(dir);
+}
+
 TEST_CASE("the 8-bit sRGB table gives lround(255 srgb_encode(v)) for every 97th float in [0, 1] and around each step", "[image]") {
     // The direct evaluation of the IEC 61966-2-1 curve, rounded as write_image always did.
     const auto direct = [](float v) { return int(std::lround(srgb_encode(double(v)) * 255.0)); };

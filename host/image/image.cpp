@@ -264,7 +264,9 @@ namespace {
 // compresses block k (PNG's deflate runs on one thread), so the coding costs almost no wall time on a
 // machine with a free core, instead of a whole pass over the float image before the first byte is written.
 // NaN and Inf are counted while coding: the first block holding one stops the write with write_image's
-// refusal (the temporary file is then removed), so no separate pass over the float image is needed.
+// refusal (the temporary file is then removed), so no separate pass over the float image is needed. The
+// rows left are written as zeros first and the file closed, so that the library has nothing to complain
+// about on the terminal (libpng prints "No IDATs written" for a PNG abandoned half-way).
 bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::string& path) {
     const Srgb8Table& table = srgb8_table();
     const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
@@ -281,7 +283,13 @@ bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::
     code(0);
     bool ok = true;
     for (int k = 0; k < blocks && ok; ++k) {
-        if (bad[k % 2]) refuse_non_finite(path, count_non_finite(img));
+        if (bad[k % 2]) {
+            std::fill(buf[0].begin(), buf[0].end(), 0);
+            for (int y = k * block; y < img.height; y += block)
+                out.write_scanlines(y, std::min(img.height, y + block), 0, OIIO::TypeDesc::UINT8, buf[0].data());
+            out.close();
+            refuse_non_finite(path, count_non_finite(img));
+        }
         std::thread next;
         if (k + 1 < blocks) {
             try {
