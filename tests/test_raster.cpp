@@ -62,6 +62,16 @@ void check_same_fragments(const FragmentBuffer& a, const FragmentBuffer& b) {
     CHECK(a.depth == b.depth);
 }
 
+// ... and the image size, triangle ids and barycentrics too: two rasterisations are the same in every field.
+void check_same_raster(const FragmentBuffer& a, const FragmentBuffer& b) {
+    CHECK(b.width == a.width);
+    CHECK(b.height == a.height);
+    check_same_fragments(a, b);
+    CHECK(a.triangle == b.triangle);
+    CHECK(a.b1 == b.b1);
+    CHECK(a.b2 == b.b2);
+}
+
 // A rectangle [x0, x1] x [y0, y1] on the plane z (world coordinates), as two triangles facing +z.
 Mesh world_rect(double x0, double y0, double x1, double y1, double z) {
     Mesh m;
@@ -678,12 +688,7 @@ TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raste
             RasterStats st;
             const FragmentBuffer b = rasterize(bunny, cam, o, &st);
             INFO("threads " << t << " vs 1, " << a.size() << " fragments with 1 thread, " << b.size() << " with " << t);
-            CHECK(b.width == a.width);
-            CHECK(b.height == a.height);
-            check_same_fragments(a, b);
-            CHECK(a.triangle == b.triangle);
-            CHECK(a.b1 == b.b1);
-            CHECK(a.b2 == b.b2);
+            check_same_raster(a, b);
             CHECK(st.triangles_culled == st1.triangles_culled);
             CHECK(st.triangles_clipped == st1.triangles_clipped);
         }
@@ -718,12 +723,7 @@ TEST_CASE("raster: rasterize_into a reused buffer (a larger frame, a smaller one
         }
         rasterize_into(bunny, cam, opts(256, 256, 2), reused);
         INFO("round " << round);
-        CHECK(reused.width == a.width);
-        CHECK(reused.height == a.height);
-        check_same_fragments(a, reused);
-        CHECK(reused.triangle == a.triangle);
-        CHECK(reused.b1 == a.b1);
-        CHECK(reused.b2 == a.b2);
+        check_same_raster(a, reused);
     }
 }
 
