@@ -411,25 +411,30 @@ struct SlTimes {
 };
 
 // One shadelab frame, as `shadelab render` does it: rasterise (2 threads), shade on the OpenCL device,
-// compose the RGBA float image (alpha = coverage) in memory.
-Image shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shader, const ShadeSetup& setup,
-                     SlTimes& t) {
+// compose the RGBA float image (alpha = coverage) in memory. The fragment buffer `fb` and the image `img`
+// are the caller's, kept from frame to frame as a renderer keeps its buffers (and as the llvmpipe side keeps
+// its framebuffer and read-back buffer); `fresh` empties them first, so every frame pays fresh pages.
+void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shader, const ShadeSetup& setup,
+                    bool fresh, FragmentBuffer& fb, Image& img, SlTimes& t) {
+    if (fresh) {
+        fb = FragmentBuffer{};
+        img = Image{};
+    }
     const auto t0 = clock_type::now();
     RasterOptions ro;
     ro.width = w;
     ro.height = h;
     ro.threads = kThreads;
     RasterStats rs;
-    const FragmentBuffer fb = rasterize(mesh, s.camera, ro, &rs);
+    rasterize_into(mesh, s.camera, ro, fb, &rs);
     const auto t1 = clock_type::now();
     ShadeTiming st;
     const std::vector<float> rgb = shader.shade(fb, setup, &st);
     const auto t2 = clock_type::now();
-    Image img = compose_image(fb, rgb, glm::dvec4(0.0));
+    compose_image_into(fb, rgb, glm::dvec4(0.0), img);
     const auto t3 = clock_type::now();
     t = SlTimes{ms_since(t0, t3), ms_since(t0, t1), st.upload_ms, st.kernel_ms, st.download_ms, ms_since(t2, t3),
                 fb.size(), rs};
-    return img;
 }
 
 // The rasteriser alone on 1 and on kThreads threads (best of `frames` each, interleaved): how its threads
@@ -476,6 +481,7 @@ struct Options {
     std::string csv;
     std::string images;          // folder for the image pairs and Delta E maps (empty: none written)
     double target = 2.0;
+    bool fresh_buffers = false;  // shadelab's fragment buffer and image allocated anew every frame
     // Gross disagreement, beyond any of these, fails the run. Both renderers evaluate the same formulas in float
     // on the same geometry, so what separates them is rounding (measured over the default run, 40 rows: mean
     // < 2e-4, p99 <= 3e-4, max up to 5.5 at a silhouette pixel of Minnaert's limb, no coverage difference; with
@@ -555,26 +561,147 @@ std::string stem(const std::string& path) {
     return s.substr(0, s.find('.'));
 }
 
-int run(const Options& o) {
-    // Every argument is checked before any work, so a typo costs no benchmark run.
+// One (mesh, size) of the run: what its models share.
+struct SizeCase {
+    std::string mesh_path;
+    const Mesh* mesh = nullptr;
+    const GlMesh* gl_mesh = nullptr;
+    Scene scene;
+    const GlTarget* target = nullptr;
+    int w = 0, h = 0;
+    bool header = false, scaling = false;   // printed already
+};
+
+const Precision kModes[2] = {Precision::Precise, Precision::Fast};
+
+// The best frames of one model on both sides (shadelab precise and fast) and the last images of each.
+struct ModelFrames {
+    Image sl_img[2], gl_img;
+    SlTimes sl_best[2];
+    GlTimes gl_best{1e30, 0, 0};
+};
+
+ModelFrames time_model(const Options& o, const std::string& glsl_dir, Shader& shader, const SizeCase& c,
+                       const std::string& model) {
+    const Mesh& mesh = *c.mesh;
+    const GlMesh& gl_mesh = *c.gl_mesh;
+    const Scene& scene = c.scene;
+    const GlTarget& target = *c.target;
+    const int w = c.w, h = c.h;
+    ModelFrames fr;
+    Material mat;
+    mat.model = model;
+    mat.albedo = scene.albedo;
+    mat.specular = scene.specular;
+    mat = resolve_material(mat, "bench_e2e --models");
+    Material gl_mat = mat;
+    if (!o.gl_model.empty()) {
+        gl_mat.model = o.gl_model;
+        gl_mat.params.clear();
+        gl_mat = resolve_material(gl_mat, "bench_e2e --gl-model");
+    }
+    // One-time setup, untimed: the GLSL program and its uniforms, the two OpenCL programs, and one
+    // warm-up frame of each (llvmpipe compiles the shader variant at its first draw).
+    const GLuint prog = build_program(glsl_dir, gl_mat.model, int(scene.lights.size()));
+    set_uniforms(prog, scene, gl_mat, w, h);
+    std::vector<float> rgba;
+    gl_frame(gl_mesh, target, rgba);
+    ShadeSetup setups[2];
+    FragmentBuffer sl_fb[2];
+    SlTimes t;
+    for (int m = 0; m < 2; ++m) {
+        setups[m].material = mat;
+        setups[m].lights = scene.lights;
+        setups[m].ambient = scene.ambient;
+        setups[m].view = glm::dvec4(scene.camera.eye, 1.0);
+        setups[m].precision = kModes[m];
+        shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], fr.sl_img[m], t);
+        fr.sl_best[m].total = 1e30;
+    }
+    // Timed frames, interleaved (llvmpipe, shadelab precise, shadelab fast, again ...) so that load
+    // from other processes on the shared cores falls on both sides alike; best of N for each.
+    for (int f = 0; f < o.frames; ++f) {
+        const GlTimes g = gl_frame(gl_mesh, target, rgba);
+        if (g.total < fr.gl_best.total) fr.gl_best = g;
+        for (int m = 0; m < 2; ++m) {
+            shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], fr.sl_img[m], t);
+            if (t.total < fr.sl_best[m].total) fr.sl_best[m] = t;
+        }
+    }
+    check_gl("drawing");
+    glDeleteProgram(prog);
+    fr.gl_img = image_from_gl(rgba, w, h);
+    if (!all_finite(fr.gl_img)) throw Error("llvmpipe's image holds NaN or Inf for model '" + model + "'");
+    return fr;
+}
+
+// Prints and checks the two rows of one model (and the size's header and rasteriser scaling before its first
+// row); false when the images disagree beyond the bounds.
+bool report_model(const Options& o, SizeCase& c, const std::string& model, const ModelFrames& fr, std::vector<Row>& rows) {
+    const Mesh& mesh = *c.mesh;
+    const Scene& scene = c.scene;
+    const int w = c.w, h = c.h;
+    const std::string& mesh_path = c.mesh_path;
+    bool agree = true;
+    for (int m = 0; m < 2; ++m) {
+        const Precision p = kModes[m];
+        const SlTimes& best = fr.sl_best[m];
+        if (!all_finite(fr.sl_img[m])) throw Error("shadelab's image holds NaN or Inf for model '" + model + "'");
+        Row r;
+        r.mesh = stem(mesh_path);
+        r.model = model;
+        r.mode = precision_name(p);
+        r.width = w;
+        r.height = h;
+        r.triangles = mesh.triangles.size();
+        r.sl = best;
+        r.gl = fr.gl_best;
+        r.diff = compare_images(fr.sl_img[m], fr.gl_img);
+        const std::size_t either = r.diff.pixels + r.diff.coverage_mismatch;
+        r.mismatch_fraction = either ? double(r.diff.coverage_mismatch) / double(either) : 0.0;
+        if (!c.header) {
+            print_header(mesh_path.substr(mesh_path.find_last_of('/') + 1), r.triangles, w, h,
+                         best.fragments);
+            c.header = true;
+        }
+        if (!c.scaling) {
+            print_raster_scaling(mesh, scene, w, h, o.frames);
+            c.scaling = true;
+        }
+        print_row(r, o.target);
+        std::fflush(stdout);
+        if (!(r.diff.de_mean <= o.max_mean_de) || !(r.diff.de_p99 <= o.max_p99_de) ||
+            !(r.mismatch_fraction <= o.max_coverage_mismatch)) {
+            std::printf("  DISAGREE: %s %s %s: dE mean %.3f (bound %.2f), p99 %.3f (bound %.2f), coverage "
+                        "mismatch %.4f%% (bound %.2f%%)\n",
+                        r.mesh.c_str(), model.c_str(), r.mode.c_str(), r.diff.de_mean, o.max_mean_de,
+                        r.diff.de_p99, o.max_p99_de, 100.0 * r.mismatch_fraction,
+                        100.0 * o.max_coverage_mismatch);
+            agree = false;
+        }
+        if (!o.images.empty()) {
+            const std::string base = o.images + "/" + r.mesh + "_" + std::to_string(w) + "x" +
+                                     std::to_string(h) + "_" + model + "_" + r.mode;
+            write_image(base + "_shadelab.exr", fr.sl_img[m]);
+            if (p == Precision::Precise) write_image(base + "_llvmpipe.exr", fr.gl_img);
+            write_image(base + "_de.png", colourise_delta_e(r.diff.de_map, 2.0));
+        }
+        rows.push_back(r);
+    }
+    return agree;
+}
+
+// Every argument is checked before any work, so a typo costs no benchmark run.
+void check_options(const Options& o) {
     for (const auto& m : o.models) require_gl_model(m, "--models");
     if (!o.gl_model.empty()) require_gl_model(o.gl_model, "--gl-model");
     for (const auto& size : o.sizes) {
         int w = 0, h = 0;
         parse_size(size, w, h);
     }
-    std::ofstream csv;
-    if (!o.csv.empty()) {
-        csv.open(o.csv);
-        if (!csv) throw Error("cannot write the CSV '" + o.csv + "': check that its folder exists and is writable");
-    }
-    // Both sides on the machine's 2 cores: PoCL's CPU driver threads (3.x name, then the older one).
-    setenv("POCL_CPU_MAX_CU_COUNT", std::to_string(kThreads).c_str(), 1);
-    setenv("POCL_MAX_PTHREAD_COUNT", std::to_string(kThreads).c_str(), 1);
-    GlContext gl;   // first, so a missing EGL is reported before any other work
-    Runtime rt;
-    Shader shader(rt);
-    const std::string glsl_dir = std::string(SHADELAB_SOURCE_DIR) + "/bench/glsl";
+}
+
+void print_preamble(const Options& o, Runtime& rt, const GlContext& gl) {
     std::printf("machine:  %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
     std::printf("shadelab: rasteriser on %d threads; OpenCL %s, %u compute units\n", kThreads,
                 rt.device_description().c_str(), rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
@@ -587,116 +714,14 @@ int run(const Options& o) {
                 "  dE: CIEDE2000 between the two images over pixels both cover; cov.diff: pixels covered by one only,\n"
                 "  of those covered by either. shadelab breakdown (ms): kernel is device time, other = the rest\n",
                 o.frames, o.target);
+    std::printf("buffers: %s\n", o.fresh_buffers
+                    ? "shadelab's fragment buffer and image allocated anew every frame (--fresh-buffers)"
+                    : "shadelab's fragment buffer and image kept from frame to frame (llvmpipe keeps its framebuffer "
+                      "and read-back buffer); the shaded planes are Shader::shade's, new every frame");
+}
 
-    std::vector<Row> rows;
-    bool agree = true;
-    for (const std::string& mesh_path : o.meshes) {
-        const Mesh mesh = load_mesh(mesh_path);
-        const GlMesh gl_mesh(mesh);
-        for (const std::string& size : o.sizes) {
-            int w = 0, h = 0;
-            parse_size(size, w, h);
-            const Scene scene = make_scene(mesh, w, h);
-            if (scene.lights.size() > std::size_t(kMaxLights)) throw Error("too many lights for the GLSL arrays");
-            const GlTarget target(w, h);
-            bool header = false;
-            bool scaling = false;
-            for (const std::string& model : o.models) {
-                Material mat;
-                mat.model = model;
-                mat.albedo = scene.albedo;
-                mat.specular = scene.specular;
-                mat = resolve_material(mat, "bench_e2e --models");
-                Material gl_mat = mat;
-                if (!o.gl_model.empty()) {
-                    gl_mat.model = o.gl_model;
-                    gl_mat.params.clear();
-                    gl_mat = resolve_material(gl_mat, "bench_e2e --gl-model");
-                }
-                // One-time setup, untimed: the GLSL program and its uniforms, the two OpenCL programs, and one
-                // warm-up frame of each (llvmpipe compiles the shader variant at its first draw).
-                const GLuint prog = build_program(glsl_dir, gl_mat.model, int(scene.lights.size()));
-                set_uniforms(prog, scene, gl_mat, w, h);
-                std::vector<float> rgba;
-                gl_frame(gl_mesh, target, rgba);
-                const Precision modes[2] = {Precision::Precise, Precision::Fast};
-                ShadeSetup setups[2];
-                Image sl_img[2];
-                SlTimes sl_best[2], t;
-                for (int m = 0; m < 2; ++m) {
-                    setups[m].material = mat;
-                    setups[m].lights = scene.lights;
-                    setups[m].ambient = scene.ambient;
-                    setups[m].view = glm::dvec4(scene.camera.eye, 1.0);
-                    setups[m].precision = modes[m];
-                    sl_img[m] = shadelab_frame(mesh, scene, w, h, shader, setups[m], t);
-                    sl_best[m].total = 1e30;
-                }
-                // Timed frames, interleaved (llvmpipe, shadelab precise, shadelab fast, again ...) so that load
-                // from other processes on the shared cores falls on both sides alike; best of N for each.
-                GlTimes gl_best{1e30, 0, 0};
-                for (int f = 0; f < o.frames; ++f) {
-                    const GlTimes g = gl_frame(gl_mesh, target, rgba);
-                    if (g.total < gl_best.total) gl_best = g;
-                    for (int m = 0; m < 2; ++m) {
-                        sl_img[m] = shadelab_frame(mesh, scene, w, h, shader, setups[m], t);
-                        if (t.total < sl_best[m].total) sl_best[m] = t;
-                    }
-                }
-                check_gl("drawing");
-                glDeleteProgram(prog);
-                const Image gl_img = image_from_gl(rgba, w, h);
-                if (!all_finite(gl_img)) throw Error("llvmpipe's image holds NaN or Inf for model '" + model + "'");
-
-                for (int m = 0; m < 2; ++m) {
-                    const Precision p = modes[m];
-                    const SlTimes& best = sl_best[m];
-                    if (!all_finite(sl_img[m])) throw Error("shadelab's image holds NaN or Inf for model '" + model + "'");
-                    Row r;
-                    r.mesh = stem(mesh_path);
-                    r.model = model;
-                    r.mode = precision_name(p);
-                    r.width = w;
-                    r.height = h;
-                    r.triangles = mesh.triangles.size();
-                    r.sl = best;
-                    r.gl = gl_best;
-                    r.diff = compare_images(sl_img[m], gl_img);
-                    const std::size_t either = r.diff.pixels + r.diff.coverage_mismatch;
-                    r.mismatch_fraction = either ? double(r.diff.coverage_mismatch) / double(either) : 0.0;
-                    if (!header) {
-                        print_header(mesh_path.substr(mesh_path.find_last_of('/') + 1), r.triangles, w, h,
-                                     best.fragments);
-                        header = true;
-                    }
-                    if (!scaling) {
-                        print_raster_scaling(mesh, scene, w, h, o.frames);
-                        scaling = true;
-                    }
-                    print_row(r, o.target);
-                    std::fflush(stdout);
-                    if (!(r.diff.de_mean <= o.max_mean_de) || !(r.diff.de_p99 <= o.max_p99_de) ||
-                        !(r.mismatch_fraction <= o.max_coverage_mismatch)) {
-                        std::printf("  DISAGREE: %s %s %s: dE mean %.3f (bound %.2f), p99 %.3f (bound %.2f), coverage "
-                                    "mismatch %.4f%% (bound %.2f%%)\n",
-                                    r.mesh.c_str(), model.c_str(), r.mode.c_str(), r.diff.de_mean, o.max_mean_de,
-                                    r.diff.de_p99, o.max_p99_de, 100.0 * r.mismatch_fraction,
-                                    100.0 * o.max_coverage_mismatch);
-                        agree = false;
-                    }
-                    if (!o.images.empty()) {
-                        const std::string base = o.images + "/" + r.mesh + "_" + std::to_string(w) + "x" +
-                                                 std::to_string(h) + "_" + model + "_" + r.mode;
-                        write_image(base + "_shadelab.exr", sl_img[m]);
-                        if (p == Precision::Precise) write_image(base + "_llvmpipe.exr", gl_img);
-                        write_image(base + "_de.png", colourise_delta_e(r.diff.de_map, 2.0));
-                    }
-                    rows.push_back(r);
-                }
-            }
-        }
-    }
-
+// The summary against the target, and where shadelab's time went.
+void print_summary(const Options& o, const std::vector<Row>& rows, bool agree) {
     // Summary against the target.
     std::size_t met = 0;
     double worst = 1e30;
@@ -721,6 +746,45 @@ int run(const Options& o) {
                     100.0 * (sum_total - sum_raster - sum_kernel - sum_resolve) / sum_total);
     std::printf("images %s (bounds: dE2000 mean <= %.2f and p99 <= %.2f, coverage mismatch <= %.2f%%)\n",
                 agree ? "agree" : "DISAGREE", o.max_mean_de, o.max_p99_de, 100.0 * o.max_coverage_mismatch);
+}
+
+int run(const Options& o) {
+    check_options(o);
+    std::ofstream csv;
+    if (!o.csv.empty()) {
+        csv.open(o.csv);
+        if (!csv) throw Error("cannot write the CSV '" + o.csv + "': check that its folder exists and is writable");
+    }
+    // Both sides on the machine's 2 cores: PoCL's CPU driver threads (3.x name, then the older one).
+    setenv("POCL_CPU_MAX_CU_COUNT", std::to_string(kThreads).c_str(), 1);
+    setenv("POCL_MAX_PTHREAD_COUNT", std::to_string(kThreads).c_str(), 1);
+    GlContext gl;   // first, so a missing EGL is reported before any other work
+    Runtime rt;
+    Shader shader(rt);
+    const std::string glsl_dir = std::string(SHADELAB_SOURCE_DIR) + "/bench/glsl";
+    print_preamble(o, rt, gl);
+    std::vector<Row> rows;
+    bool agree = true;
+    for (const std::string& mesh_path : o.meshes) {
+        const Mesh mesh = load_mesh(mesh_path);
+        const GlMesh gl_mesh(mesh);
+        for (const std::string& size : o.sizes) {
+            SizeCase c;
+            parse_size(size, c.w, c.h);
+            c.mesh_path = mesh_path;
+            c.mesh = &mesh;
+            c.gl_mesh = &gl_mesh;
+            c.scene = make_scene(mesh, c.w, c.h);
+            if (c.scene.lights.size() > std::size_t(kMaxLights)) throw Error("too many lights for the GLSL arrays");
+            const GlTarget target(c.w, c.h);
+            c.target = &target;
+            for (const std::string& model : o.models) {
+                const ModelFrames fr = time_model(o, glsl_dir, shader, c, model);
+                agree = report_model(o, c, model, fr, rows) && agree;
+            }
+        }
+    }
+    print_summary(o, rows, agree);
     if (!o.csv.empty()) {
         write_csv(csv, o.csv, rows, o.target);
         std::printf("csv: %s\n", o.csv.c_str());
@@ -745,6 +809,9 @@ int main(int argc, char** argv) {
                    "Draw another model on the llvmpipe side (shows that the image check catches a mismatch)");
     app.add_option("--csv", o.csv, "Also write the table as CSV to this file");
     app.add_option("--images", o.images, "Write each image pair (.exr) and its Delta E map (.png) into this folder");
+    app.add_flag("--fresh-buffers", o.fresh_buffers,
+                 "Allocate shadelab's fragment buffer and image anew every frame (default: kept between frames, as "
+                 "llvmpipe keeps its framebuffer)");
     app.add_option("--target", o.target, "Speed-up target of shadelab over llvmpipe")->capture_default_str();
     app.add_option("--max-mean-de", o.max_mean_de, "Fail when the mean CIEDE2000 of a pair exceeds this")
         ->capture_default_str();

@@ -1,6 +1,7 @@
 // Image output: sRGB transfer, PNG and EXR round trips, atomic writes, refusal of NaN/Inf.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -129,6 +130,77 @@ TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-t
     FragmentBuffer bad = rev;
     bad.pixel[0] = npix;
     CHECK_THROWS_WITH(compose_image(bad, rgb_rev, {0, 0, 0, 0}), Catch::Contains("outside the 1000x700 image"));
+}
+
+TEST_CASE("compose_image_into reusing an image of another size and content equals a fresh compose_image", "[image]") {
+    // Fragments in pixel order on 1000 x 700 (every 5th pixel, plus a run of 300 adjacent ones and the last
+    // pixel), composed into an image that held a larger frame, then a smaller one, then the same frame again:
+    // every value must equal the fresh image's (no stale pixel survives, the background fills every gap).
+    FragmentBuffer fb;
+    fb.width = 1000;
+    fb.height = 700;
+    const int npix = 1000 * 700;
+    std::vector<int> covered;
+    for (int p = 0; p < npix; p += 5) covered.push_back(p);
+    for (int p = 350001; p < 350301; ++p)
+        if (p % 5 != 0) covered.push_back(p);
+    covered.push_back(npix - 1);
+    std::sort(covered.begin(), covered.end());
+    for (int p : covered) fb.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
+    const std::size_t n = covered.size();
+    std::vector<float> rgb(3 * n);
+    for (std::size_t i = 0; i < 3 * n; ++i) rgb[i] = float(i % 1009) / 1009.0f;
+    const glm::dvec4 bg{0.25, 0.5, 0.75, 0.125};
+    const Image fresh = compose_image(fb, rgb, bg);
+    Image reused(1200, 800, 4);
+    std::fill(reused.pixels.begin(), reused.pixels.end(), 9.0f);
+    for (int round = 0; round < 3; ++round) {
+        if (round == 1) {   // a smaller frame in between: one fragment on a 10 x 10 image
+            FragmentBuffer small;
+            small.width = small.height = 10;
+            small.push_back(0, 0, 0, 0, 0, 1, 7, 1.0f);
+            compose_image_into(small, {0.5f, 0.5f, 0.5f}, bg, reused);
+            CHECK(reused.pixels.size() == 10u * 10u * 4u);
+            CHECK(reused.at(7, 0, 3) == 1.0f);
+            CHECK(reused.at(8, 0, 3) == 0.125f);
+        }
+        compose_image_into(fb, rgb, bg, reused);
+        INFO("round " << round);
+        REQUIRE(reused.width == 1000);
+        REQUIRE(reused.height == 700);
+        REQUIRE(reused.channels == 4);
+        REQUIRE(reused.pixels.size() == fresh.pixels.size());
+        std::size_t differ = 0;
+        for (std::size_t i = 0; i < fresh.pixels.size(); ++i) differ += reused.pixels[i] != fresh.pixels[i];
+        CHECK(differ == 0);
+    }
+    CHECK(fresh.at(999, 699, 3) == 1.0f);   // the last pixel is covered
+    CHECK(fresh.at(1, 0, 3) == 0.125f);
+}
+
+TEST_CASE("8-bit writes count NaN and Inf while coding: refused in the last row block too, nothing left behind", "[image]") {
+    // 8-bit formats find NaN/Inf while coding row blocks (about 1 MB each) as they are written: a bad value in
+    // the first block, in the last one and on a 1-channel image must all be refused with the full count,
+    // leaving neither the target nor a temporary file; a clean image of the same size is written.
+    const fs::path dir = test::scratch_dir("image_nan8");
+    Image big(1024, 600, 4);   // 4 KB rows: 256 rows a block, so the last value lies in the third block
+    for (float& v : big.pixels) v = 0.5f;
+    big.pixels.back() = std::nanf("");
+    big.at(3, 0, 0) = -INFINITY;
+    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("2 pixel values are NaN or Inf"));
+    big.at(3, 0, 0) = 0.5f;
+    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("1 pixel values are NaN or Inf"));
+    Image grey(5, 3, 1);
+    grey.at(4, 2, 0) = INFINITY;
+    REQUIRE_THROWS_WITH(write_image((dir / "grey.png").string(), grey), Catch::Contains("1 pixel values are NaN or Inf"));
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir)) left += e.is_regular_file() ? 1 : 0;
+    CHECK(left == 0);
+    big.pixels.back() = 0.25f;
+    write_image((dir / "late.png").string(), big);
+    const Image back = read_image((dir / "late.png").string());
+    CHECK(back.at(1023, 599, 3) == Approx(64.0 / 255.0).margin(1e-6));   // alpha 0.25 -> code 64
+    fs::remove_all(dir);
 }
 
 TEST_CASE("the 8-bit sRGB table gives lround(255 srgb_encode(v)) for every 97th float in [0, 1] and around each step", "[image]") {

@@ -62,6 +62,16 @@ void check_same_fragments(const FragmentBuffer& a, const FragmentBuffer& b) {
     CHECK(a.depth == b.depth);
 }
 
+// ... and the image size, triangle ids and barycentrics too: two rasterisations are the same in every field.
+void check_same_raster(const FragmentBuffer& a, const FragmentBuffer& b) {
+    CHECK(b.width == a.width);
+    CHECK(b.height == a.height);
+    check_same_fragments(a, b);
+    CHECK(a.triangle == b.triangle);
+    CHECK(a.b1 == b.b1);
+    CHECK(a.b2 == b.b2);
+}
+
 // A rectangle [x0, x1] x [y0, y1] on the plane z (world coordinates), as two triangles facing +z.
 Mesh world_rect(double x0, double y0, double x1, double y1, double z) {
     Mesh m;
@@ -678,12 +688,7 @@ TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raste
             RasterStats st;
             const FragmentBuffer b = rasterize(bunny, cam, o, &st);
             INFO("threads " << t << " vs 1, " << a.size() << " fragments with 1 thread, " << b.size() << " with " << t);
-            CHECK(b.width == a.width);
-            CHECK(b.height == a.height);
-            check_same_fragments(a, b);
-            CHECK(a.triangle == b.triangle);
-            CHECK(a.b1 == b.b1);
-            CHECK(a.b2 == b.b2);
+            check_same_raster(a, b);
             CHECK(st.triangles_culled == st1.triangles_culled);
             CHECK(st.triangles_clipped == st1.triangles_clipped);
         }
@@ -700,6 +705,25 @@ TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raste
             check_same_fragments(a, b);
         }
         CHECK(std::is_sorted(a.pixel.begin(), a.pixel.end()));
+    }
+}
+
+TEST_CASE("raster: rasterize_into a reused buffer (a larger frame, a smaller one, the same again) equals rasterize", "[raster]") {
+    const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
+    const Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
+    const FragmentBuffer a = rasterize(bunny, cam, opts(256, 256, 2));
+    REQUIRE(a.size() > 10000);
+    FragmentBuffer reused;
+    rasterize_into(bunny, cam, opts(512, 512, 2), reused);    // more fragments than a
+    REQUIRE(reused.size() > a.size());
+    for (int round = 0; round < 2; ++round) {
+        if (round == 1) {
+            rasterize_into(bunny, cam, opts(64, 64, 2), reused);   // fewer
+            REQUIRE(reused.size() < a.size());
+        }
+        rasterize_into(bunny, cam, opts(256, 256, 2), reused);
+        INFO("round " << round);
+        check_same_raster(a, reused);
     }
 }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <thread>
 
 #include <OpenImageIO/imageio.h>
 
@@ -49,55 +50,83 @@ bool strictly_increasing(const std::int32_t* pixel, std::size_t b, std::size_t e
 
 }  // namespace
 
-Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
+namespace {
+
+// Pixels [p0, p1) of an RGBA image: the fragments [f0, f1), whose pixel indices are strictly increasing and
+// inside the range, with their colour and alpha 1, every other pixel the background. Each pixel is written
+// once, in address order (no background pass under the fragments).
+void compose_range(const std::int32_t* pixel, const float* r, const float* g, const float* b, const float bg[4],
+                   std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1, float* out) {
+    auto background = [&](std::size_t from, std::size_t to) {
+        for (std::size_t p = from; p < to; ++p)
+            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+    };
+    std::size_t p = p0;
+    for (std::size_t i = f0; i < f1; ++i) {
+        const std::size_t q = std::size_t(pixel[i]);
+        background(p, q);
+        out[q * 4 + 0] = r[i];
+        out[q * 4 + 1] = g[i];
+        out[q * 4 + 2] = b[i];
+        out[q * 4 + 3] = 1.0f;
+        p = q + 1;
+    }
+    background(p, p1);
+}
+
+// Any order, one thread: the background everywhere, then the fragments (later ones win), each checked.
+void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], float* out) {
+    const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
+    for (std::size_t p = 0; p < npix; ++p)
+        for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::int32_t q = fb.pixel[i];
+        if (q < 0 || std::size_t(q) >= npix)
+            throw Error("internal: fragment " + std::to_string(i) + " has pixel index " + std::to_string(q) +
+                        " outside the " + std::to_string(fb.width) + "x" + std::to_string(fb.height) + " image");
+        for (std::size_t c = 0; c < 3; ++c) out[std::size_t(q) * 4 + c] = rgb[c * n + i];
+        out[std::size_t(q) * 4 + 3] = 1.0f;
+    }
+}
+
+}  // namespace
+
+void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
+                        Image& img) {
     if (fb.width <= 0 || fb.height <= 0)
         throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
     const std::size_t n = fb.size();
     if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
-    Image img;
     img.width = fb.width;
     img.height = fb.height;
     img.channels = 4;
-    resize_fresh(img.pixels, npix * 4);
+    size_for_frame(img.pixels, npix * 4);
     const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
     float* const out = img.pixels.data();
     const std::int32_t* const pixel = fb.pixel.data();
     // Rows in parallel when the fragments come in pixel order (as the rasteriser emits them): each thread
-    // fills its own pixel range and scatters the fragments that land in it, found by binary search.
+    // writes its own pixel range, with the fragments that land in it, found by binary search.
     const int threads = thread_count(0, npix / 65536);
     std::vector<char> sorted(std::size_t(threads), 0);
     run_parallel(threads, [&](int t) {
         const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
         sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
     });
-    const bool parallel = std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; });
-    auto fill = [&](std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1) {
-        for (std::size_t p = p0; p < p1; ++p)
-            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
-        for (std::size_t i = f0; i < f1; ++i) {
-            const std::size_t p = std::size_t(pixel[i]);
-            out[p * 4 + 0] = rgb[i];
-            out[p * 4 + 1] = rgb[n + i];
-            out[p * 4 + 2] = rgb[2 * n + i];
-            out[p * 4 + 3] = 1.0f;
-        }
-    };
-    if (!parallel) {   // any order: one thread, later fragments win, as before
-        fill(0, npix, 0, 0);
-        for (std::size_t i = 0; i < n; ++i)
-            if (pixel[i] < 0 || std::size_t(pixel[i]) >= npix)
-                throw Error("internal: fragment " + std::to_string(i) + " has pixel index " + std::to_string(pixel[i]) +
-                            " outside the " + std::to_string(fb.width) + "x" + std::to_string(fb.height) + " image");
-        fill(0, 0, 0, n);
-        return img;
-    }
+    if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; }))
+        return compose_unordered(fb, rgb, bg, out);
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
         const auto f0 = std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel;
         const auto f1 = std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel;
-        fill(p0, p1, std::size_t(f0), std::size_t(f1));
+        compose_range(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1, std::size_t(f0),
+                      std::size_t(f1), out);
     });
+}
+
+Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background) {
+    Image img;
+    compose_image_into(fb, rgb, background, img);
     return img;
 }
 
@@ -151,20 +180,69 @@ const Srgb8Table& srgb8_table() {
 
 std::uint8_t srgb8_code(float linear) { return srgb8_table().code(linear); }
 
+namespace {
+
+// Values [b, e) of `img` (whole pixels) coded into out[0, e - b): colour channels through the table, alpha
+// (the 4th of 4) clamped and rounded, floor(255 v + 0.5), which is lround's value here (255 v is exact in
+// double and non-negative). A pixel of four zeros (the background of most renders) is coded at once.
+// Returns how many of the values are NaN or Inf (coded 0 or 255; write_image refuses such images).
+std::size_t encode_srgb8_values(const Srgb8Table& table, const Image& img, std::size_t b, std::size_t e,
+                                unsigned char* out) {
+    const std::size_t channels = std::size_t(img.channels);
+    const float* const in = img.pixels.data();
+    std::size_t bad = 0;
+    if (channels != 4) {
+        for (std::size_t i = b; i < e; ++i) {
+            bad += std::isfinite(in[i]) ? 0 : 1;
+            out[i - b] = table.code(in[i]);
+        }
+        return bad;
+    }
+    for (std::size_t i = b; i < e; i += 4) {
+        const float* v = in + i;
+        unsigned char* o = out + (i - b);
+        if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f) {
+            o[0] = o[1] = o[2] = o[3] = 0;
+            continue;
+        }
+        for (int c = 0; c < 4; ++c) bad += std::isfinite(v[c]) ? 0 : 1;
+        for (int c = 0; c < 3; ++c) o[c] = table.code(v[c]);
+        const double a = v[3] > 0.0f ? std::min(double(v[3]), 1.0) : 0.0;   // NaN: 0
+        o[3] = static_cast<unsigned char>(int(a * 255.0 + 0.5));
+    }
+    return bad;
+}
+
+// The number of NaN or Inf values in `img`, counted on all threads (a pass over 256 MB at 4096 x 4096).
+std::size_t count_non_finite(const Image& img) {
+    const std::size_t nvalues = img.pixels.size();
+    const int threads = thread_count(0, nvalues / (1 << 20));
+    std::vector<std::size_t> bad_of(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        std::size_t b = 0;
+        for (std::size_t i = split(nvalues, threads, t), e = split(nvalues, threads, t + 1); i < e; ++i)
+            b += std::isfinite(img.pixels[i]) ? 0 : 1;
+        bad_of[std::size_t(t)] = b;
+    });
+    std::size_t bad = 0;
+    for (std::size_t b : bad_of) bad += b;
+    return bad;
+}
+
+void refuse_non_finite(const std::string& path, std::size_t bad) {
+    if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
+}
+
+}  // namespace
+
 std::vector<unsigned char> encode_srgb8(const Image& img) {
     const Srgb8Table& table = srgb8_table();
     std::vector<unsigned char> px(img.pixels.size());
-    const std::size_t channels = std::size_t(img.channels), pixels = px.size() / std::max<std::size_t>(1, channels);
-    const bool alpha = img.channels == 4;
+    const std::size_t channels = std::max<std::size_t>(1, std::size_t(img.channels)), pixels = px.size() / channels;
     const int threads = thread_count(0, pixels / 65536);
     run_parallel(threads, [&](int t) {
-        for (std::size_t p = split(pixels, threads, t), e = split(pixels, threads, t + 1); p < e; ++p)
-            for (std::size_t c = 0; c < channels; ++c) {
-                const std::size_t i = p * channels + c;
-                const float v = img.pixels[i];
-                px[i] = alpha && c == 3 ? static_cast<unsigned char>(std::lround(std::clamp(double(v), 0.0, 1.0) * 255.0))
-                                        : table.code(v);
-            }
+        const std::size_t b = split(pixels, threads, t) * channels, e = split(pixels, threads, t + 1) * channels;
+        encode_srgb8_values(table, img, b, e, px.data() + b);
     });
     return px;
 }
@@ -181,6 +259,51 @@ Encoding encoding_for(const std::string& path) {
 }
 
 namespace {
+
+// The 8-bit image written block by block of rows: a second thread codes block k + 1 while OpenImageIO
+// compresses block k (PNG's deflate runs on one thread), so the coding costs almost no wall time on a
+// machine with a free core, instead of a whole pass over the float image before the first byte is written.
+// NaN and Inf are counted while coding: the first block holding one stops the write with write_image's
+// refusal (the temporary file is then removed), so no separate pass over the float image is needed. The
+// rows left are written as zeros first and the file closed, so that the library has nothing to complain
+// about on the terminal (libpng prints "No IDATs written" for a PNG abandoned half-way).
+bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::string& path) {
+    const Srgb8Table& table = srgb8_table();
+    const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
+    const int block = std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row)));   // ~1 MB
+    const int blocks = (img.height + block - 1) / block;
+    std::vector<unsigned char> buf[2];
+    for (auto& b : buf) b.resize(std::size_t(block) * row);
+    std::size_t bad[2] = {0, 0};
+    auto code = [&](int k) {
+        const std::size_t y0 = std::size_t(k) * std::size_t(block);
+        const std::size_t y1 = std::min(std::size_t(img.height), y0 + std::size_t(block));
+        bad[k % 2] = encode_srgb8_values(table, img, y0 * row, y1 * row, buf[k % 2].data());
+    };
+    code(0);
+    bool ok = true;
+    for (int k = 0; k < blocks && ok; ++k) {
+        if (bad[k % 2]) {
+            std::fill(buf[0].begin(), buf[0].end(), 0);
+            for (int y = k * block; y < img.height; y += block)
+                out.write_scanlines(y, std::min(img.height, y + block), 0, OIIO::TypeDesc::UINT8, buf[0].data());
+            out.close();
+            refuse_non_finite(path, count_non_finite(img));
+        }
+        std::thread next;
+        if (k + 1 < blocks) {
+            try {
+                next = std::thread(code, k + 1);
+            } catch (...) {   // no thread: code it here after this block's write (same bytes)
+            }
+        }
+        const int y0 = k * block, y1 = std::min(img.height, y0 + block);
+        ok = out.write_scanlines(y0, y1, 0, OIIO::TypeDesc::UINT8, buf[k % 2].data());
+        if (next.joinable()) next.join();
+        else if (k + 1 < blocks) code(k + 1);
+    }
+    return ok;
+}
 
 // Encodes `img` into `file` with OpenImageIO (8-bit sRGB or linear float, as `enc` says). Returns false with
 // OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s format.
@@ -202,8 +325,7 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
     bool ok = out->open(file, spec);
     if (ok) {
         if (enc == Encoding::Srgb8) {
-            const std::vector<unsigned char> px = encode_srgb8(img);
-            ok = out->write_image(OIIO::TypeDesc::UINT8, px.data());
+            ok = write_srgb8_pipelined(*out, img, path);
         } else {
             ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
         }
@@ -227,19 +349,8 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
             for (int c = 0; c < 3; ++c) rgb.pixels[p * 3 + c] = img.pixels[p * std::size_t(img.channels) + std::size_t(img.channels >= 3 ? c : 0)];
         return write_image(path, rgb, options);
     }
-    // Counted on all threads: at 4096x4096 this is a pass over 256 MB before any encoding.
-    const std::size_t nvalues = img.pixels.size();
-    const int threads = thread_count(0, nvalues / (1 << 20));
-    std::vector<std::size_t> bad_of(std::size_t(threads), 0);
-    run_parallel(threads, [&](int t) {
-        std::size_t b = 0;
-        for (std::size_t i = split(nvalues, threads, t), e = split(nvalues, threads, t + 1); i < e; ++i)
-            b += std::isfinite(img.pixels[i]) ? 0 : 1;
-        bad_of[std::size_t(t)] = b;
-    });
-    std::size_t bad = 0;
-    for (std::size_t b : bad_of) bad += b;
-    if (bad) throw Error("refusing to write '" + path + "': " + std::to_string(bad) + " pixel values are NaN or Inf");
+    // Float formats are checked first, in a pass of its own; 8-bit ones while coding (write_srgb8_pipelined).
+    if (enc != Encoding::Srgb8) refuse_non_finite(path, count_non_finite(img));
     // The temporary file keeps the extension: OpenImageIO picks the format from it.
     write_file_atomically(
         path, "image", [&](const std::string& tmp, std::string& why) { return write_with_oiio(tmp, path, img, enc, options, why); },

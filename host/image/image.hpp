@@ -30,6 +30,10 @@ double srgb_decode(double encoded);  // encoded [0,1] -> linear
 // fb.width x fb.height. Covered pixels get alpha 1; the rest get `background` (rgb linear, a alpha).
 // Done in parallel when the fragments are in pixel order (as the rasteriser emits them), else on one thread.
 Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background);
+// The same into `out`, reusing its pixel memory when it is large enough (a renderer drawing frame after frame
+// keeps one image and pays no fresh-page faults); whatever `out` held is replaced.
+void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background,
+                        Image& out);
 
 // The 8-bit sRGB code of a linear value, lround(255 srgb_encode(v)) (0 for NaN and v <= 0, 255 for v >= 1),
 // from a table of the curve's exact thresholds. encode_srgb8 codes every value of an image so (alpha, the

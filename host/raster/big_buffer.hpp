@@ -31,4 +31,16 @@ void resize_fresh(std::vector<T>& v, std::size_t n) {
     v.resize(n);
 }
 
+// n elements in v for this frame: the vector's own memory when it is large enough (a renderer reusing its
+// buffers from frame to frame pays no page faults), else fresh memory with huge pages advised.
+template <class T>
+void size_for_frame(std::vector<T>& v, std::size_t n) {
+    if (v.capacity() < n) {
+        std::vector<T>().swap(v);
+        resize_fresh(v, n);
+    } else {
+        v.resize(n);
+    }
+}
+
 }  // namespace shadelab

@@ -439,12 +439,14 @@ struct RowSpan {
 };
 
 // The visibility buffer as draw_triangle updates it, restricted to one tile. Depth is +inf where no
-// triangle has been drawn yet (cleared with the owners when the tile starts).
+// triangle has been drawn yet (cleared with the owners when the tile starts). Only the owners outlive the
+// tile (emission reads them), so depth is the drawing thread's own kTileW x kTileH array, which stays in
+// cache and is never written back over the whole frame (at 4096 x 4096 that saves 134 MB of writes).
 struct TileBuffer {
     int width;
     int x0, x1, y0, y1;       // the tile: [x0, x1) x [y0, y1)
-    double* depth;            // NDC z of the nearest surface so far
-    std::int32_t* owner;      // its set-up triangle id, -1 for none
+    double* depth;            // NDC z of the nearest surface so far: pixel (x, y) at [(y - y0) kTileW + x - x0]
+    std::int32_t* owner;      // its set-up triangle id, -1 for none (the whole frame's, row stride `width`)
     RowSpan* rows;            // rows[y - y0]
 };
 
@@ -452,15 +454,17 @@ struct TileBuffer {
 // far plane (the near plane was clipped), then nearest wins; on an exact tie the earlier, lower-index
 // triangle keeps the pixel (strict <, ids ascending). Written without branches so that it vectorises;
 // depth starts at +inf, so an unowned pixel takes any z <= 1. Returns the pixels newly owned.
-inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o, int xs, int xe, double zy,
-                               double dzdx, double x0, std::int32_t tid) {
+// `d` is the tile row's depth, indexed x - tile_x0; `o` the frame row's owners, indexed x.
+inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o, int tile_x0, int xs, int xe,
+                               double zy, double dzdx, double x0, std::int32_t tid) {
     std::int32_t newly = 0;
     for (int x = xs; x <= xe; ++x) {
         const double z = zy + dzdx * (double(x) + 0.5 - x0);
         const std::int32_t prev = o[x];
-        const bool take = (z <= 1.0) & (z < d[x]);
+        double& dx = d[x - tile_x0];
+        const bool take = (z <= 1.0) & (z < dx);
         newly += std::int32_t(take & (prev < 0));
-        d[x] = take ? z : d[x];
+        dx = take ? z : dx;
         o[x] = take ? tid : prev;
     }
     return newly;
@@ -500,14 +504,14 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
         // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so it does not
         // depend on where a tile starts.
         const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
-        double* const d = buf.depth + std::size_t(y) * std::size_t(buf.width);
+        double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
         std::int32_t* const o = buf.owner + std::size_t(y) * std::size_t(buf.width);
         RowSpan& span = buf.rows[y - buf.y0];
         if (n < kSpanMinWidth) {
             std::int64_t e0 = row_e0, e1 = row_e1, e2 = row_e2;
             for (int x = min_x; x <= max_x; ++x, e0 += step0, e1 += step1, e2 += step2)
                 if ((e0 | e1 | e2) >= 0) {
-                    span.covered += depth_span(d, o, x, x, zy, dzdx, x0, tid);
+                    span.covered += depth_span(d, o, buf.x0, x, x, zy, dzdx, x0, tid);
                     span.lo = std::min(span.lo, x);
                     span.hi = std::max(span.hi, x + 1);
                 }
@@ -518,7 +522,7 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
             edge_span(row_e2, step2, n, first, last);
             if (first > last) continue;
             const int xs = min_x + int(first), xe = min_x + int(last);
-            span.covered += depth_span(d, o, xs, xe, zy, dzdx, x0, tid);
+            span.covered += depth_span(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
             span.lo = std::min(span.lo, xs);
             span.hi = std::max(span.hi, xe + 1);
         }
@@ -530,21 +534,22 @@ struct TileContext {
     const std::vector<Chunk>* chunks;
     const std::vector<Bins>* bins;
     const std::vector<std::int32_t>* first_id;
-    double* depth;
     std::int32_t* owner;
     RowSpan* spans;     // spans[tx * height + y]: row y within tile column tx
 };
 
-// Clears tile k and draws its triangles, chunk by chunk (ascending ids).
-void raster_tile(const TileContext& c, int k) {
+// Clears tile k and draws its triangles, chunk by chunk (ascending ids); `depth` is the calling thread's
+// kTileW x kTileH tile depth.
+void raster_tile(const TileContext& c, int k, double* depth) {
     const Tiling& g = *c.tiling;
     const int tx = k % g.tiles_x, ty = k / g.tiles_x;
     TileBuffer buf{g.width, tx * kTileW, std::min(g.width, (tx + 1) * kTileW), ty * kTileH,
-                   std::min(g.height, (ty + 1) * kTileH), c.depth, c.owner,
+                   std::min(g.height, (ty + 1) * kTileH), depth, c.owner,
                    c.spans + std::size_t(tx) * std::size_t(g.height) + std::size_t(ty * kTileH)};
     for (int y = buf.y0; y < buf.y1; ++y) {
         const std::size_t row = std::size_t(y) * std::size_t(g.width);
-        std::fill(c.depth + row + buf.x0, c.depth + row + buf.x1, std::numeric_limits<double>::infinity());
+        double* const d = depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
+        std::fill(d, d + (buf.x1 - buf.x0), std::numeric_limits<double>::infinity());
         std::fill(c.owner + row + buf.x0, c.owner + row + buf.x1, -1);
         buf.rows[y - buf.y0] = RowSpan{buf.x1, buf.x0, 0};
     }
@@ -838,11 +843,10 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
     }
 }
 
-// The visibility buffer's memory, kept per calling thread from one frame to the next: at 4096 x 4096 it is
-// 200 MB, and fresh pages cost a page fault each (a third of a frame's time in a measured run). Every
+// The visibility buffer's memory (the owners; depth lives in each thread's tile), kept per calling thread
+// from one frame to the next: at 4096 x 4096 it is 67 MB, and fresh pages cost a page fault each. Every
 // byte is written before it is read in each frame (raster_tile clears its tile), so reuse changes nothing.
 struct Scratch {
-    std::unique_ptr<double[]> depth;
     std::unique_ptr<std::int32_t[]> owner;
     std::unique_ptr<RowSpan[]> spans;
     std::size_t pixels = 0, rows = 0;
@@ -851,11 +855,8 @@ struct Scratch {
 Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
     thread_local Scratch s;
     if (pixels > s.pixels) {
-        s.depth.reset();
         s.owner.reset();
-        s.depth.reset(new double[pixels]);
         s.owner.reset(new std::int32_t[pixels]);
-        advise_huge_pages(s.depth.get(), pixels * sizeof(double));
         advise_huge_pages(s.owner.get(), pixels * sizeof(std::int32_t));
         s.pixels = pixels;
     }
@@ -866,15 +867,106 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
     return s;
 }
 
+// What set-up leaves for the later stages.
+struct SetupResult {
+    std::unique_ptr<ScreenVertex[]> sv;
+    std::vector<Chunk> chunks;
+    std::vector<std::int32_t> first_id;   // first set-up triangle id of each chunk (+ total)
+};
+
+// 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
+//    vertices all have w >= z_near > 0); 2. triangle set-up in contiguous ranges of mesh triangles; ids
+//    follow mesh order (the depth tie-break). Large scratch arrays are first written by the thread using them.
+SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
+    const std::size_t nv = mesh.positions.size();
+    std::unique_ptr<glm::dvec4[]> clip(new glm::dvec4[nv]);
+    SetupResult s;
+    s.sv.reset(new ScreenVertex[nv]);
+    ScreenVertex* const sv = s.sv.get();
+    run_parallel(threads, [&](int i) {
+        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v) {
+            clip[v] = to_clip(f.view_projection, mesh.positions[v]);
+            sv[v] = ScreenVertex{viewport_transform(clip[v], f.width, f.height), 1.0 / clip[v].w, mesh.positions[v],
+                                 mesh.normals[v]};
+        }
+    });
+    s.chunks.resize(static_cast<std::size_t>(threads));
+    const std::size_t nt = mesh.triangles.size();
+    run_parallel(threads, [&](int i) {
+        Chunk& chunk = s.chunks[std::size_t(i)];
+        const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
+        chunk.raster.reserve(e - b + 8);
+        chunk.shade.reserve(e - b + 8);
+        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), sv, t, f, chunk);
+    });
+    s.first_id.assign(s.chunks.size() + 1, 0);
+    for (std::size_t i = 0; i < s.chunks.size(); ++i) {
+        if (s.chunks[i].raster.size() >= std::size_t(std::numeric_limits<std::int32_t>::max() - s.first_id[i]))
+            fail("mesh '" + mesh.source + "' has too many triangles (2^31 or more after clipping)");
+        s.first_id[i + 1] = s.first_id[i] + std::int32_t(s.chunks[i].raster.size());
+    }
+    return s;
+}
+
+// 3. Rasterise into the visibility buffer, tile by tile; threads take the next tile (each tile's pixels
+//    belong to it alone: no locks, and the order of tiles changes nothing).
+Scratch& raster_all(const SetupResult& s, const Tiling& g, int threads) {
+    std::vector<Bins> bins(s.chunks.size());
+    run_parallel(threads, [&](int i) { bins[std::size_t(i)] = bin_chunk(s.chunks[std::size_t(i)], g); });
+    Scratch& scratch = scratch_for(std::size_t(g.width) * std::size_t(g.height), std::size_t(g.tiles_x) * std::size_t(g.height));
+    const TileContext tc{&g, &s.chunks, &bins, &s.first_id, scratch.owner.get(), scratch.spans.get()};
+    std::atomic<int> next_tile{0};
+    run_parallel(threads, [&](int) {
+        std::unique_ptr<double[]> depth(new double[std::size_t(kTileW) * std::size_t(kTileH)]);
+        for (int k = next_tile++; k < g.count(); k = next_tile++) raster_tile(tc, k, depth.get());
+    });
+    return scratch;
+}
+
+// Where each band of kTileH rows starts in the fragment buffer: the covered counts before it (+ total).
+std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
+    std::vector<std::size_t> at(std::size_t(g.tiles_y) + 1, 0);
+    for (int y = 0; y < g.height; ++y) {
+        std::size_t row = 0;
+        for (int tx = 0; tx < g.tiles_x; ++tx)
+            row += std::size_t(spans[std::size_t(tx) * std::size_t(g.height) + std::size_t(y)].covered);
+        at[std::size_t(y / kTileH) + 1] += row;
+    }
+    for (int ty = 0; ty < g.tiles_y; ++ty) at[std::size_t(ty) + 1] += at[std::size_t(ty)];
+    return at;
+}
+
+// 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer.
+void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, const SetupResult& s, const Tiling& g,
+              const Scratch& scratch, int threads, FragmentBuffer& fb) {
+    const std::vector<std::size_t> at = band_offsets(scratch.spans.get(), g);
+    fb.width = g.width;
+    fb.height = g.height;
+    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
+        size_for_frame(*v, at.back());
+    size_for_frame(fb.pixel, at.back());
+    size_for_frame(fb.triangle, at.back());
+    const EmitContext ctx{&mesh, s.sv.get(), &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
+                          camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
+                          g.height};
+    std::atomic<int> next_band{0};
+    run_parallel(threads, [&](int) {
+        std::vector<Resolve> cache(1024);
+        for (Resolve& r : cache) r.id = -1;
+        for (int ty = next_band++; ty < g.tiles_y; ty = next_band++)
+            emit_rows(ctx, cache, ty * kTileH, std::min(g.height, (ty + 1) * kTileH), at[std::size_t(ty)], fb);
+    });
+}
+
 }  // namespace
 
-FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOptions& options, RasterStats* stats) {
+void rasterize_into(const Mesh& mesh, const Camera& camera, const RasterOptions& options, FragmentBuffer& fb,
+                    RasterStats* stats) {
     const auto t0 = clock_type::now();
     validate(mesh, camera, options);
     const int W = options.width, H = options.height;
     int threads = options.threads > 0 ? options.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min(threads, H));
-
     Frame f;
     f.view_projection = camera.projection(double(W) / double(H)) * camera.view();
     f.width = W;
@@ -882,86 +974,18 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
     f.guard = double(1 << 20) / double(std::max(W, H));   // >= 64; |screen| <= 2^19 + 2^13 pixels
     f.cull = options.cull_backfaces;
 
-    // Large scratch arrays are left uninitialised here and first written by the thread that uses them.
-    // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
-    //    vertices all have w >= z_near > 0).
-    const std::size_t nv = mesh.positions.size();
-    std::unique_ptr<glm::dvec4[]> clip(new glm::dvec4[nv]);
-    std::unique_ptr<ScreenVertex[]> sv(new ScreenVertex[nv]);
-    run_parallel(threads, [&](int i) {
-        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v) {
-            clip[v] = to_clip(f.view_projection, mesh.positions[v]);
-            sv[v] = ScreenVertex{viewport_transform(clip[v], W, H), 1.0 / clip[v].w, mesh.positions[v], mesh.normals[v]};
-        }
-    });
-
-    // 2. Triangle set-up, contiguous ranges of mesh triangles; ids follow mesh order (the depth tie-break).
-    std::vector<Chunk> chunks(static_cast<std::size_t>(threads));
-    const std::size_t nt = mesh.triangles.size();
-    run_parallel(threads, [&](int i) {
-        Chunk& chunk = chunks[std::size_t(i)];
-        const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
-        chunk.raster.reserve(e - b + 8);
-        chunk.shade.reserve(e - b + 8);
-        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), sv.get(), t, f, chunk);
-    });
-    std::vector<std::int32_t> first_id(chunks.size() + 1, 0);
-    for (std::size_t i = 0; i < chunks.size(); ++i) {
-        if (chunks[i].raster.size() >= std::size_t(std::numeric_limits<std::int32_t>::max() - first_id[i]))
-            fail("mesh '" + mesh.source + "' has too many triangles (2^31 or more after clipping)");
-        first_id[i + 1] = first_id[i] + std::int32_t(chunks[i].raster.size());
-    }
-
+    const SetupResult s = setup_all(mesh, f, threads);
     const auto t_setup = clock_type::now();
-
-    // 3. Rasterise into the visibility buffer, tile by tile; threads take the next tile (each tile's pixels
-    //    belong to it alone: no locks, and the order of tiles changes nothing).
     const Tiling g(W, H);
-    std::vector<Bins> bins(chunks.size());
-    run_parallel(threads, [&](int i) { bins[std::size_t(i)] = bin_chunk(chunks[std::size_t(i)], g); });
-    const std::size_t npix = std::size_t(W) * std::size_t(H);
-    Scratch& scratch = scratch_for(npix, std::size_t(g.tiles_x) * std::size_t(H));
-    double* const depth = scratch.depth.get();          // NDC z of the nearest surface so far
-    std::int32_t* const owner = scratch.owner.get();
-    RowSpan* const spans = scratch.spans.get();
-    const TileContext tc{&g, &chunks, &bins, &first_id, depth, owner, spans};
-    std::atomic<int> next_tile{0};
-    run_parallel(threads, [&](int) {
-        for (int k = next_tile++; k < g.count(); k = next_tile++) raster_tile(tc, k);
-    });
+    const Scratch& scratch = raster_all(s, g, threads);
     const auto t_raster = clock_type::now();
-
-    // 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer, at the
-    //    offset the covered counts before it give.
-    std::vector<std::size_t> at(std::size_t(g.tiles_y) + 1, 0);
-    for (int y = 0; y < H; ++y) {
-        std::size_t row = 0;
-        for (int tx = 0; tx < g.tiles_x; ++tx) row += std::size_t(spans[std::size_t(tx) * std::size_t(H) + std::size_t(y)].covered);
-        at[std::size_t(y / kTileH) + 1] += row;
-    }
-    for (int ty = 0; ty < g.tiles_y; ++ty) at[std::size_t(ty) + 1] += at[std::size_t(ty)];
-    FragmentBuffer fb;
-    fb.width = W;
-    fb.height = H;
-    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
-        resize_fresh(*v, at.back());
-    resize_fresh(fb.pixel, at.back());
-    resize_fresh(fb.triangle, at.back());
-    const EmitContext ctx{&mesh, sv.get(), &chunks, &first_id, owner, spans, g.tiles_x, camera.eye,
-                          glm::normalize(camera.target - camera.eye), options.flip_normals_to_viewer, W, H};
-    std::atomic<int> next_band{0};
-    run_parallel(threads, [&](int) {
-        std::vector<Resolve> cache(1024);
-        for (Resolve& r : cache) r.id = -1;
-        for (int ty = next_band++; ty < g.tiles_y; ty = next_band++)
-            emit_rows(ctx, cache, ty * kTileH, std::min(H, (ty + 1) * kTileH), at[std::size_t(ty)], fb);
-    });
+    emit_all(mesh, camera, options, s, g, scratch, threads, fb);
     const auto t_emit = clock_type::now();
 
     if (stats) {
         RasterStats st;
-        st.triangles_in = nt;
-        for (const Chunk& c : chunks) {
+        st.triangles_in = mesh.triangles.size();
+        for (const Chunk& c : s.chunks) {
             st.triangles_culled += c.stats.triangles_culled;
             st.triangles_clipped += c.stats.triangles_clipped;
         }
@@ -971,6 +995,11 @@ FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOpt
         st.emit_ms = ms_between(t_raster, t_emit);
         *stats = st;
     }
+}
+
+FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOptions& options, RasterStats* stats) {
+    FragmentBuffer fb;
+    rasterize_into(mesh, camera, options, fb, stats);
     return fb;
 }
 

@@ -42,5 +42,9 @@ struct RasterStats {
 
 FragmentBuffer rasterize(const Mesh& mesh, const Camera& camera, const RasterOptions& options,
                          RasterStats* stats = nullptr);
+// The same fragments into `out`, reusing its arrays' memory when they are large enough (a renderer drawing
+// frame after frame keeps one buffer and pays no fresh-page faults); whatever `out` held is replaced.
+void rasterize_into(const Mesh& mesh, const Camera& camera, const RasterOptions& options, FragmentBuffer& out,
+                    RasterStats* stats = nullptr);
 
 }  // namespace shadelab
