@@ -208,6 +208,10 @@ KernelVsReference check_kernel_against_reference(const Material& m, Allowance&& 
     e.what = describe(m);
     e.rel_floor = rel_floor;
     std::vector<double> abs_errs, rel_errs;
+    std::size_t total = 0;
+    for (const DirectionSweep* s : sweeps) total += 3 * s->size();
+    abs_errs.reserve(total);
+    rel_errs.reserve(total);
     Shader shader(runtime());
     for (const DirectionSweep* s : sweeps) {
         const std::vector<float> out = shader.eval_directions(m, s->N, s->L, s->V, s->P);
@@ -267,6 +271,36 @@ struct ConditionedBound {
         return conditioned(r, B) ? tight_rel * std::abs(r) : tight_rel * (std::abs(r) + B) + B + underflow;
     }
 };
+
+// The harness with a ConditionedBound: input_bound(v) is the bound B of value v's triple, per channel (called once
+// per triple). Also counts the conditioned values and the rest, and the largest relative error where conditioned.
+struct ConditionedResult {
+    KernelVsReference e;
+    std::size_t cond = 0, rest = 0;
+    double max_rel_cond = 0.0;
+};
+template <typename InputBound>
+ConditionedResult check_conditioned(const Material& m, const ConditionedBound& bound, InputBound&& input_bound) {
+    ConditionedResult res;
+    glm::dvec3 B(0.0);
+    const DirectionSweep* bound_sweep = nullptr;
+    std::size_t bound_of = 0;
+    res.e = check_kernel_against_reference(m, [&](const Compared& v) {
+        if (bound_sweep != &v.sweep || v.i != bound_of) {
+            B = input_bound(v);
+            bound_sweep = &v.sweep;
+            bound_of = v.i;
+        }
+        if (bound.conditioned(v.r, B[v.c])) {
+            ++res.cond;
+            res.max_rel_cond = std::max(res.max_rel_cond, v.err() / std::abs(v.r));
+        } else {
+            ++res.rest;
+        }
+        return bound(v.r, B[v.c]);
+    });
+    return res;
+}
 
 // The same, with the exact value computed here.
 inline double slope(const glm::dvec3& N, const glm::dvec3& L, const glm::dvec3& V, const Material& m, int c) {

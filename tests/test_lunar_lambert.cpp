@@ -87,10 +87,10 @@ TEST_CASE("lommel_seeliger and lunar_lambert: kernel within 2e-6 of the referenc
              {"lunar_lambert", {{"l", 1.0}}}, {"lunar_lambert", {{"l", 2.0}}}}) {
         const Material m = test::material(model, p);
         // Away from grazing, where both terms are well conditioned (L >= 0: no cancellation): 2e-6 relative.
-        const auto e = test::check_kernel_against_reference(m, [](const test::Compared& v) {
+        const auto vec = test::check_kernel_against_reference(m, [](const test::Compared& v) {
             return v.NoL() < 0.05 || v.NoV() < 0.05 ? test::kExempt : 2e-6 * std::abs(v.r);
         });
-        test::expect_within(e, 10001);   // more than 10,000 values compared
+        test::expect_within(vec, 10001);   // more than 10,000 values compared
         std::size_t non_finite = 0;
         // Photometric angles: 20,000 random rows a facet can have, through kernels/photometry.cl.
         std::mt19937_64 gen(7);
@@ -113,7 +113,7 @@ TEST_CASE("lommel_seeliger and lunar_lambert: kernel within 2e-6 of the referenc
         }
         INFO(model << " l " << (p.count("l") ? p.at("l") : 0.0) << ": photometric rows max rel " << pho_max_rel);
         std::cout << "lunar_lambert family: " << model << " l " << (p.count("l") ? p.at("l") : 0.0)
-                  << ": kernel vs reference, vector sweep max rel " << e.max_rel << ", photometric rows max rel "
+                  << ": kernel vs reference, vector sweep max rel " << vec.max_rel << ", photometric rows max rel "
                   << pho_max_rel << "\n";
         CHECK(non_finite == 0);
         CHECK(pho_max_rel <= 2e-6);

@@ -145,7 +145,7 @@ TEST_CASE("minnaert kernels match the double references over the sphere, paramet
         const ref::ModelFn& f = ref::reference_for(c.model);
         // Per triple (computed once for its three channels): the reference's range over the input rounding.
         std::size_t interval_of = SIZE_MAX, cond_n = 0, last_cond = SIZE_MAX;
-        dvec3 lo, hi;
+        dvec3 lo(0.0), hi(0.0);
         double cond_rel = 0.0, excess = 0.0;
         // Everywhere (grazing, behind the horizon, V = N, the guard's kink, Blender's clamp, the saturate's
         // clip): the kernel lies in the reference's range over the input rounding, up to its own arithmetic

@@ -122,30 +122,12 @@ glm::dvec3 input_bound(const ModelShape& s, const Material& m, const Dots& d) {
     return B;
 }
 
-// The kernel over the standard sweep against the reference, with the input bound of each value (the bound of
-// tests/support.hpp's ConditionedBound); conditioned counts and max rel (conditioned) printed.
-struct SweepResult {
-    test::KernelVsReference e;
-    std::size_t cond = 0, rest = 0;
-    double max_rel_cond = 0.0;
-};
-SweepResult check_sweep(const Material& m) {
+// The kernel over the standard sweep against the reference, with the input bound of each value.
+test::ConditionedResult check_sweep(const Material& m) {
     const ModelShape s = shape_of(m);
-    const test::ConditionedBound bound{kTightRel, kValueFloor, kCondRel, kUnderflow};
-    SweepResult res;
-    glm::dvec3 B(0.0);
-    std::size_t bound_of = SIZE_MAX;
-    res.e = test::check_kernel_against_reference(m, [&](const test::Compared& v) {
-        if (v.i != bound_of) { B = input_bound(s, m, dots(s, v.N(), v.L(), v.V())); bound_of = v.i; }
-        if (bound.conditioned(v.r, B[v.c])) {
-            ++res.cond;
-            res.max_rel_cond = std::max(res.max_rel_cond, v.err() / std::abs(v.r));
-        } else {
-            ++res.rest;
-        }
-        return bound(v.r, B[v.c]);
+    return test::check_conditioned(m, {kTightRel, kValueFloor, kCondRel, kUnderflow}, [&](const test::Compared& v) {
+        return input_bound(s, m, dots(s, v.N(), v.L(), v.V()));
     });
-    return res;
 }
 
 // Directional albedo (1/pi) integral of value dL of a lobe-only material (albedo 0), by the midpoint rule
@@ -200,7 +182,7 @@ TEST_CASE("phong kernels match the double references over the sphere and the par
     std::cout << "phong kernels vs double reference, " << test::sweep().size()
               << " triples; conditioned: |ref| >= 1e-3 and the float input box moves it <= 1e-6 relative\n";
     for (const Material& m : grid) {
-        const SweepResult r = check_sweep(m);
+        const test::ConditionedResult r = check_sweep(m);
         const test::KernelVsReference& e = r.e;
         std::cout << "  " << std::left << std::setw(50) << test::describe(m, true) << std::right << " max abs "
                   << std::setw(11) << e.max_abs << " max rel " << std::setw(11) << e.max_rel << "  cond " << std::setw(6)

@@ -46,32 +46,11 @@ glm::dvec3 nol_sensitivity(const Material& m, const glm::dvec3& N, const glm::dv
     return glm::max(glm::abs(up - r), glm::abs(dn - r));
 }
 
-// The kernel over the standard sweep against the reference, with the NoL sensitivity as the input bound (the
-// bound of tests/support.hpp's ConditionedBound); conditioned counts and max rel (conditioned) printed.
-struct SweepResult {
-    test::KernelVsReference e;
-    std::size_t cond = 0, rest = 0;
-    double max_rel_cond = 0.0;
-};
-SweepResult check_sweep(const Material& m) {
-    const test::ConditionedBound bound{kTightRel, kValueFloor, kCondRel, 0.0};
-    SweepResult res;
-    glm::dvec3 B(0.0);
-    std::size_t bound_of = SIZE_MAX;
-    res.e = test::check_kernel_against_reference(m, [&](const test::Compared& v) {
-        if (v.i != bound_of) {
-            B = nol_sensitivity(m, v.N(), v.L(), v.V(), v.P(), v.reference[v.i]);
-            bound_of = v.i;
-        }
-        if (bound.conditioned(v.r, B[v.c])) {
-            ++res.cond;
-            res.max_rel_cond = std::max(res.max_rel_cond, v.err() / std::abs(v.r));
-        } else {
-            ++res.rest;
-        }
-        return bound(v.r, B[v.c]);
+// The kernel over the standard sweep against the reference, with the NoL sensitivity as the input bound.
+test::ConditionedResult check_sweep(const Material& m) {
+    return test::check_conditioned(m, {kTightRel, kValueFloor, kCondRel, 0.0}, [&](const test::Compared& v) {
+        return nol_sensitivity(m, v.N(), v.L(), v.V(), v.P(), v.reference[v.i]);
     });
-    return res;
 }
 
 }  // namespace
@@ -86,7 +65,7 @@ TEST_CASE("wrap kernels match the double references over the sphere and the para
     std::cout << "wrap kernels vs double reference, " << test::sweep().size() << " triples; conditioned: |ref| >= "
               << kValueFloor << " and a " << kDeltaNoL << " change of NoL moves it <= " << kCondRel << " relative\n";
     for (const Material& m : grid) {
-        const SweepResult r = check_sweep(m);
+        const test::ConditionedResult r = check_sweep(m);
         const test::KernelVsReference& e = r.e;
         std::cout << "  " << std::left << std::setw(36) << test::describe(m, true) << std::right << " max abs "
                   << std::setw(10) << e.max_abs << "  max rel " << std::setw(10) << e.max_rel << "  conditioned: " << r.cond
