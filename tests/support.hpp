@@ -1,6 +1,6 @@
 // What the test files share: the one OpenCL runtime of the test process, the standard direction sweep,
 // the bundled data folders, resolved materials, scratch folders, the slope of a model under small turns
-// of its directions (the rounding part of the kernel-vs-reference bounds), the kernel-vs-reference sweep and the
+// of its directions (the rounding part of the kernel-vs-reference bounds), the kernel-vs-reference harness and the
 // white furnace (directional albedo) every family's tests use.
 #pragma once
 #include <unistd.h>
@@ -8,11 +8,15 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
 #include <map>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include <catch2/catch.hpp>
 #include <glm/glm.hpp>
 
 #include "cl/runtime.hpp"
@@ -114,47 +118,193 @@ inline double slope(const glm::dvec3& N, const glm::dvec3& L, const glm::dvec3& 
     return s;
 }
 
-// Kernel-vs-reference statistics against a per-value input bound B (how far the exact value can move under
-// the float rounding of the kernel's inputs). Where the value is not tiny (|r| >= value_floor) and well
-// conditioned (B <= cond_rel |r|) the kernel must be within tight_rel |r| of the reference; elsewhere within
-// tight_rel (|r| + B) + B + underflow (the kernel's own rounding is relative to what it may return, |r| + B).
-struct ConditionedStats {
-    double tight_rel = 2e-6, value_floor = 1e-3, cond_rel = 1e-6, underflow = 0.0;   // the bounds, set first
-    double max_abs = 0.0, max_rel = 0.0, max_rel_cond = 0.0, worst_ratio = 0.0;
-    std::size_t cond = 0, rest = 0, non_finite = 0, tight_fail = 0, rest_fail = 0, worst = 0;
+// ---- the kernel against its reference ----------------------------------------------------------------------
+// One harness for every family's kernel-vs-reference test: check_kernel_against_reference(m, allowed, sweeps)
+// runs the kernel of the resolved material m through the shared runtime on the standard sweep (and any extra
+// sweeps, e.g. triples placed on a model's band edges), evaluates the double reference on the same float inputs,
+// and tallies each value (triple, channel) against the test's own bound, allowed(value): the largest |k - r| it
+// allows there, or kExempt for a value the bound does not cover (a documented band such as the horizon, where
+// either side is right) - exempt values still count as NaN/Inf when they are. expect_within(e) then asserts
+// (Catch) no NaN/Inf and no value past its bound, and prints one line: max / p99 relative and absolute error,
+// the worst geometry (largest error over its bound), the counts. A test states its bound in its allowance:
+//     const auto e = test::check_kernel_against_reference(m, [&](const test::Compared& v) {
+//         return v.NoL() >= 0.05 ? 2e-6 * std::abs(v.r) : 2e-7; });
+//     test::expect_within(e);
 
-    // One value: kernel k, reference r, bound B, of triple i.
-    void add(std::size_t i, double k, double r, double B) {
-        if (!std::isfinite(k)) { ++non_finite; return; }
-        const double err = std::abs(k - r), mag = std::abs(r);
-        max_abs = std::max(max_abs, err);
-        if (mag >= value_floor) max_rel = std::max(max_rel, err / mag);
-        if (mag >= value_floor && B <= cond_rel * mag) {
-            ++cond;
-            max_rel_cond = std::max(max_rel_cond, err / mag);
-            if (err > tight_rel * mag) { ++tight_fail; worst = i; }
-        } else {
-            ++rest;
-            const double allowed = tight_rel * (mag + B) + B + underflow;
-            if (allowed > 0.0) worst_ratio = std::max(worst_ratio, err / allowed);
-            if (err > allowed) { ++rest_fail; worst = i; }
-        }
+// One value compared: channel c of triple i of `sweep`, the kernel's value k and the reference's r, and the whole
+// run (kernel values and references of that sweep) for bounds that need a statistic of it (a peak, a quantile).
+struct Compared {
+    const DirectionSweep& sweep;
+    const std::vector<float>& kernel;           // 3 per triple
+    const std::vector<glm::dvec3>& reference;   // 1 per triple
+    std::size_t i;
+    int c;
+    double k, r;
+    double err() const { return std::abs(k - r); }
+    const glm::dvec3& N() const { return sweep.dN[i]; }
+    const glm::dvec3& L() const { return sweep.dL[i]; }
+    const glm::dvec3& V() const { return sweep.dV[i]; }
+    const glm::dvec3& P() const { return sweep.dP[i]; }
+    double NoL() const { return glm::dot(N(), L()); }
+    double NoV() const { return glm::dot(N(), V()); }
+    double LoV() const { return glm::dot(L(), V()); }
+};
+
+// What an allowance returns for a value its bound does not cover.
+constexpr double kExempt = -1.0;
+
+// The tally of one material over its sweeps.
+struct KernelVsReference {
+    std::string what;   // the material, "model p=v ..."
+    double rel_floor = 1e-3;   // relative errors are taken where |r| >= rel_floor
+    std::size_t values = 0, compared = 0, exempt = 0, non_finite = 0, negative = 0, failures = 0;
+    double max_abs = 0.0, p99_abs = 0.0, max_rel = 0.0, p99_rel = 0.0;   // over the compared values
+    double worst_ratio = 0.0;   // the largest |k - r| / allowed (> 1: past the bound)
+    std::string worst;          // that value's geometry, kernel and reference
+    std::string first_non_finite;
+
+    std::string summary() const {
+        std::ostringstream o;
+        o << what << ": " << compared << " values compared (" << exempt << " exempt), max rel " << max_rel << " p99 rel "
+          << p99_rel << " (|r| >= " << rel_floor << "), max abs " << max_abs << " p99 abs " << p99_abs
+          << ", max err/bound " << worst_ratio << ", past bound " << failures << ", NaN/Inf " << non_finite;
+        return o.str();
     }
 };
 
-// The kernel of `m` over the standard sweep against its reference, each value tallied into `e` (its bounds
-// set) with the input bound `bound(i, r)` (per channel) of triple i whose reference value is r.
-template <typename Bound>
-ConditionedStats conditioned_sweep(const Material& m, ConditionedStats e, Bound&& bound) {
-    const DirectionSweep& s = sweep();
+// "model p=v ..." for a resolved material: the parameters that differ from the model's defaults, or all.
+inline std::string describe(const Material& m, bool all = false) {
+    std::ostringstream o;
+    o << m.model;
+    for (const auto& p : find_model(m.model).params)
+        if (all || m.params.at(p.name) != p.def) o << " " << p.name << "=" << m.params.at(p.name);
+    return o.str();
+}
+
+// Where a compared value sits: triple, kind, the cosines, the vectors, kernel and reference.
+inline std::string describe(const Compared& v) {
+    std::ostringstream o;
+    auto vec = [&](const glm::dvec3& d) { o << "(" << d.x << "," << d.y << "," << d.z << ")"; };
+    o << std::setprecision(9) << "triple " << v.i << " (" << v.sweep.kind[v.i] << ") channel " << v.c << " NoL=" << v.NoL()
+      << " NoV=" << v.NoV() << " LoV=" << v.LoV() << " N=";
+    vec(v.N());
+    o << " L=";
+    vec(v.L());
+    o << " V=";
+    vec(v.V());
+    o << ": kernel " << v.k << ", reference " << v.r;
+    return o.str();
+}
+
+// The q-quantile (0..1) of xs (reordered), 0 when empty.
+inline double quantile(std::vector<double>& xs, double q) {
+    if (xs.empty()) return 0.0;
+    const auto at = xs.begin() + std::ptrdiff_t(std::min(xs.size() - 1, std::size_t(q * double(xs.size()))));
+    std::nth_element(xs.begin(), at, xs.end());
+    return *at;
+}
+
+// The kernel of `m` on each of `sweeps` against its reference, each value against allowed(value) (above).
+template <typename Allowance>
+KernelVsReference check_kernel_against_reference(const Material& m, Allowance&& allowed,
+                                                 const std::vector<const DirectionSweep*>& sweeps = {&sweep()},
+                                                 double rel_floor = 1e-3) {
+    KernelVsReference e;
+    e.what = describe(m);
+    e.rel_floor = rel_floor;
+    std::vector<double> abs_errs, rel_errs;
+    std::size_t total = 0;
+    for (const DirectionSweep* s : sweeps) total += 3 * s->size();
+    abs_errs.reserve(total);
+    rel_errs.reserve(total);
     Shader shader(runtime());
-    const std::vector<float> out = shader.eval_directions(m, s.N, s.L, s.V, s.P);
-    for (std::size_t i = 0; i < s.size(); ++i) {
-        const glm::dvec3 r = ref::eval_material(s.dN[i], s.dL[i], s.dV[i], s.dP[i], m);
-        const glm::dvec3 B = bound(i, r);
-        for (int c = 0; c < 3; ++c) e.add(i, out[3 * i + std::size_t(c)], r[c], B[c]);
+    for (const DirectionSweep* s : sweeps) {
+        const std::vector<float> out = shader.eval_directions(m, s->N, s->L, s->V, s->P);
+        std::vector<glm::dvec3> ref(s->size());
+        for (std::size_t i = 0; i < s->size(); ++i) ref[i] = ref::eval_material(s->dN[i], s->dL[i], s->dV[i], s->dP[i], m);
+        for (std::size_t i = 0; i < s->size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                const Compared v{*s, out, ref, i, c, out[3 * i + std::size_t(c)], ref[i][c]};
+                ++e.values;
+                if (!std::isfinite(v.k)) {
+                    if (e.non_finite++ == 0) e.first_non_finite = describe(v);
+                    continue;
+                }
+                if (v.k < 0.0) ++e.negative;
+                const double a = allowed(v);
+                if (a < 0.0) { ++e.exempt; continue; }
+                ++e.compared;
+                const double err = v.err();
+                abs_errs.push_back(err);
+                e.max_abs = std::max(e.max_abs, err);
+                if (std::abs(v.r) >= rel_floor) {
+                    rel_errs.push_back(err / std::abs(v.r));
+                    e.max_rel = std::max(e.max_rel, rel_errs.back());
+                }
+                if (err > a) ++e.failures;
+                const double ratio = a > 0.0 ? err / a : (err > 0.0 ? HUGE_VAL : 0.0);
+                if (ratio > e.worst_ratio || e.worst.empty()) {
+                    e.worst_ratio = std::max(e.worst_ratio, ratio);
+                    e.worst = describe(v);
+                }
+            }
     }
+    e.p99_abs = quantile(abs_errs, 0.99);
+    e.p99_rel = quantile(rel_errs, 0.99);
     return e;
+}
+
+// The Catch checks of a tally: no NaN/Inf, no value past its bound, at least min_compared values compared (so
+// the bound is not vacuous); prints the summary line.
+inline void expect_within(const KernelVsReference& e, std::size_t min_compared = 1) {
+    std::cout << "  " << e.summary() << "\n";
+    INFO(e.summary() << "; worst: " << e.worst << (e.non_finite ? "; first NaN/Inf: " + e.first_non_finite : ""));
+    CHECK(e.non_finite == 0);
+    CHECK(e.failures == 0);
+    CHECK(e.compared >= min_compared);
+}
+
+// The bound of a model whose error is set by the float rounding of its inputs: B is how far the exact value r can
+// move under that rounding (per value, e.g. from slope() or the reference's change over the dot products' error).
+// Where the value is not tiny (|r| >= value_floor) and well conditioned (B <= cond_rel |r|) the kernel must be
+// within tight_rel |r| of the reference; elsewhere within tight_rel (|r| + B) + B + underflow (the kernel's own
+// rounding is relative to what it may return, |r| + B).
+struct ConditionedBound {
+    double tight_rel = 2e-6, value_floor = 1e-3, cond_rel = 1e-6, underflow = 0.0;
+    bool conditioned(double r, double B) const { return std::abs(r) >= value_floor && B <= cond_rel * std::abs(r); }
+    double operator()(double r, double B) const {
+        return conditioned(r, B) ? tight_rel * std::abs(r) : tight_rel * (std::abs(r) + B) + B + underflow;
+    }
+};
+
+// The harness with a ConditionedBound: input_bound(v) is the bound B of value v's triple, per channel (called once
+// per triple). Also counts the conditioned values and the rest, and the largest relative error where conditioned.
+struct ConditionedResult {
+    KernelVsReference e;
+    std::size_t cond = 0, rest = 0;
+    double max_rel_cond = 0.0;
+};
+template <typename InputBound>
+ConditionedResult check_conditioned(const Material& m, const ConditionedBound& bound, InputBound&& input_bound) {
+    ConditionedResult res;
+    glm::dvec3 B(0.0);
+    const DirectionSweep* bound_sweep = nullptr;
+    std::size_t bound_of = 0;
+    res.e = check_kernel_against_reference(m, [&](const Compared& v) {
+        if (bound_sweep != &v.sweep || v.i != bound_of) {
+            B = input_bound(v);
+            bound_sweep = &v.sweep;
+            bound_of = v.i;
+        }
+        if (bound.conditioned(v.r, B[v.c])) {
+            ++res.cond;
+            res.max_rel_cond = std::max(res.max_rel_cond, v.err() / std::abs(v.r));
+        } else {
+            ++res.rest;
+        }
+        return bound(v.r, B[v.c]);
+    });
+    return res;
 }
 
 // The same, with the exact value computed here.

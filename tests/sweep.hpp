@@ -98,32 +98,4 @@ inline DirectionSweep make_sweep(std::size_t count = 120000, std::uint64_t seed 
     return s;
 }
 
-// Per-channel error statistics of a kernel result against a double reference.
-struct ErrorStats {
-    double max_abs = 0.0;
-    double max_rel = 0.0;        // over values whose reference magnitude is >= rel_floor
-    std::size_t worst = 0;       // index of the triple with the largest relative (else absolute) error
-    std::size_t non_finite = 0;  // kernel outputs that were NaN or Inf
-    std::size_t count = 0;
-};
-
-inline ErrorStats compare(const std::vector<float>& kernel, const std::vector<glm::dvec3>& ref, double rel_floor) {
-    ErrorStats e;
-    e.count = ref.size();
-    for (std::size_t i = 0; i < ref.size(); ++i) {
-        for (int c = 0; c < 3; ++c) {
-            const double k = kernel[3 * i + std::size_t(c)];
-            if (!std::isfinite(k)) { ++e.non_finite; continue; }
-            const double r = ref[i][c];
-            const double abs_err = std::abs(k - r);
-            if (abs_err > e.max_abs) { e.max_abs = abs_err; if (e.max_rel == 0.0) e.worst = i; }
-            if (std::abs(r) >= rel_floor && abs_err / std::abs(r) > e.max_rel) {
-                e.max_rel = abs_err / std::abs(r);
-                e.worst = i;
-            }
-        }
-    }
-    return e;
-}
-
 }  // namespace shadelab::test

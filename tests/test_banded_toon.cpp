@@ -31,15 +31,6 @@ Material make(const std::string& model, std::map<std::string, double> params = {
     return test::material(model, std::move(params), albedo, specular);
 }
 
-std::string describe(const Material& m, bool all = false) {
-    std::ostringstream o;
-    o << m.model;
-    const ModelInfo& info = find_model(m.model);
-    for (const auto& p : info.params)
-        if (all || m.params.at(p.name) != p.def) o << " " << p.name << "=" << m.params.at(p.name);
-    return o.str();
-}
-
 // Float error bounds of the quantisers' inputs (u = 2^-24): NoL = dot in float, <= 3u, plus the
 // quantiser's own arithmetic before the floor (NoL steps + 1/2, or (256 NoL + t/2) / t: <= ~3u in NoL
 // units): 8u. NoH (see test_phong.cpp): 12u, plus the power's rounding mapped back to NoH: 16u.
@@ -88,7 +79,6 @@ test::DirectionSweep edge_sweep(const std::vector<double>& nol_edges, const std:
 
 TEST_CASE("banded kernels match the reference - mismatches only within a few ulps of a band edge",
           "[banded_toon][kernel]") {
-    Shader shader(test::runtime());
     std::cout << "banded kernels vs double reference, " << test::sweep().size() << " sweep triples + 9000 placed on band "
               << "edges (edge = within " << kDeltaNoL << " of a band edge in NoL):\n";
     std::vector<Material> grid;
@@ -103,37 +93,26 @@ TEST_CASE("banded kernels match the reference - mismatches only within a few ulp
         const int count = int(std::floor((1.0 - 0.5 * step) / step)) + 1;
         for (int j = 0; j < count; j += std::max(1, count / 10)) edges.push_back((j + 0.5) * step);
         const test::DirectionSweep on_edges = edge_sweep(edges, {}, 9000 / edges.size());
-        std::size_t mismatches = 0, bad = 0, non_finite = 0, worst = 0;
+        std::size_t mismatches = 0;
         double max_dist = 0.0, max_err_off_edge = 0.0;
-        const test::DirectionSweep* worst_sweep = &test::sweep();
-        for (const test::DirectionSweep* swp : {&test::sweep(), &on_edges}) {
-            const test::DirectionSweep& sw = *swp;
-            const auto out = shader.eval_directions(m, sw.N, sw.L, sw.V, sw.P);
-            for (std::size_t i = 0; i < sw.size(); ++i) {
-                const glm::dvec3 r = ref::eval_material(sw.dN[i], sw.dL[i], sw.dV[i], sw.dP[i], m);
-                const double NoL = std::max(0.0, glm::dot(sw.dN[i], sw.dL[i]));
-                // edges: NoL = (j + 1/2) / steps, or (m - 1/2) t / 256 for the seed: the same lattice
-                const double dist = lattice_distance(NoL, step, 0.5);
-                for (int c = 0; c < 3; ++c) {
-                    const double k = out[3 * i + std::size_t(c)];
-                    if (!std::isfinite(k)) { ++non_finite; continue; }
-                    const double err = std::abs(k - r[c]), tol = kTightRel * std::max(std::abs(r[c]), m.albedo[c] * step);
-                    if (err <= tol) { if (dist > kDeltaNoL) max_err_off_edge = std::max(max_err_off_edge, err); continue; }
-                    ++mismatches;
-                    max_dist = std::max(max_dist, dist);
-                    // one band up or down, and only next to an edge
-                    if (dist > kDeltaNoL || std::abs(err - m.albedo[c] * step) > tol) { ++bad; worst = i; worst_sweep = swp; }
-                }
+        // Within a few ulps of the reference's level; or, next to an edge only, one band up or down: off the
+        // reference by the jump (albedo step) to within the same few ulps.
+        const auto e = test::check_kernel_against_reference(m, [&](const test::Compared& v) {
+            // edges: NoL = (j + 1/2) / steps, or (m - 1/2) t / 256 for the seed: the same lattice
+            const double dist = lattice_distance(std::max(0.0, v.NoL()), step, 0.5);
+            const double jump = m.albedo[v.c] * step, tol = kTightRel * std::max(std::abs(v.r), jump);
+            if (v.err() <= tol) {
+                if (dist > kDeltaNoL) max_err_off_edge = std::max(max_err_off_edge, v.err());
+                return tol;
             }
-        }
-        const test::DirectionSweep& sw = *worst_sweep;
-        std::cout << "  " << std::left << std::setw(30) << describe(m, true) << std::right << " mismatching values "
+            ++mismatches;
+            max_dist = std::max(max_dist, dist);
+            return dist <= kDeltaNoL && std::abs(v.err() - jump) <= tol ? jump + tol : tol;
+        }, {&test::sweep(), &on_edges});
+        std::cout << "  " << std::left << std::setw(30) << test::describe(m, true) << std::right << " mismatching values "
                   << std::setw(3) << mismatches << " (farthest from an edge: " << max_dist / kU
                   << " u), max error elsewhere " << max_err_off_edge << "\n";
-        INFO(describe(m, true) << ": worst triple " << worst << " (" << sw.kind[worst] << ") NoL "
-                               << glm::dot(sw.dN[worst], sw.dL[worst]));
-        CHECK(non_finite == 0);
-        CHECK(bad == 0);
+        test::expect_within(e, test::sweep().size());
     }
 }
 
@@ -260,7 +239,6 @@ TEST_CASE("banded directional albedo: exactly Lambert's for every steps - the se
 
 TEST_CASE("toon kernel matches the reference - hard-band mismatches only within a few ulps of an edge",
           "[banded_toon][kernel]") {
-    Shader shader(test::runtime());
     std::vector<Material> grid = {make("toon"), make("toon", {{"width", 0.0}}), make("toon", {{"width", 0.5}})};
     for (double n : {0.0, 1.0, 10000.0})
         for (double w : {0.0, 0.02}) grid.push_back(make("toon", {{"n", n}, {"width", w}}));
@@ -292,73 +270,55 @@ TEST_CASE("toon kernel matches the reference - hard-band mismatches only within 
         std::vector<double> nol_edges(dt, dt + 3);
         nol_edges.push_back(0.0);
         const test::DirectionSweep on_edges = edge_sweep(nol_edges, noh_edges, 9000 / (nol_edges.size() + noh_edges.size()));
-        std::size_t flat = 0, transition = 0, mismatches = 0, bad = 0, non_finite = 0, worst = 0;
-        double max_rel_flat = 0.0, max_dist_ulps = 0.0, worst_ratio = 0.0;
-        const test::DirectionSweep* worst_sweep = &test::sweep();
-        for (const test::DirectionSweep* swp : {&test::sweep(), &on_edges}) {
-            const test::DirectionSweep& sw = *swp;
-            const auto out = shader.eval_directions(m, sw.N, sw.L, sw.V, sw.P);
-            for (std::size_t i = 0; i < sw.size(); ++i) {
-                const glm::dvec3 r = ref::eval_material(sw.dN[i], sw.dL[i], sw.dV[i], sw.dP[i], m);
-                const double NoL = glm::dot(sw.dN[i], sw.dL[i]);
-                const glm::dvec3 h = sw.dL[i] + sw.dV[i];
-                const double hl = glm::length(h);
-                const bool h_defined = hl > 1e-10;
-                const double NoH = h_defined ? glm::dot(sw.dN[i], h) / hl : 0.0;
-                // distance to the nearest edge, in NoL and in NoH units
-                double dNoL = std::abs(NoL);   // the highlight gate
-                for (double t : dt) dNoL = std::min(dNoL, std::abs(NoL - t));
-                double dNoH = 1e9;
-                if (h_defined)
-                    for (double e : noh_edges) dNoH = std::min(dNoH, std::abs(NoH - e));
-                const double half = 0.5 * width;
-                const bool near = dNoL <= half + kDeltaNoL || dNoH <= kDeltaNoH + (half > 0.0 ? 1.0 : 0.0);
-                // width > 0: Lipschitz bound of the smoothsteps (slope <= 1.5 / width per unit jump) times the
-                // input error; the highlight's x moves by at most (NoH + dNoH)^n - NoH^n, and at n = 0 it jumps.
-                double dx = 0.0;
-                if (h_defined && NoH > -kDeltaNoH) {
-                    const double up = std::pow(std::max(NoH, 0.0) + kDeltaNoH, n);
-                    dx = n > 0.0 ? up - (NoH > 0.0 ? std::pow(NoH, n) : 0.0) : (NoH <= kDeltaNoH ? 1.0 : 0.0);
-                }
-                for (int c = 0; c < 3; ++c) {
-                    const double k = out[3 * i + std::size_t(c)];
-                    if (!std::isfinite(k)) { ++non_finite; continue; }
-                    const double err = std::abs(k - r[c]);
-                    const double tol = kTightRel * (std::abs(r[c]) + m.albedo[c] + m.specular[c]);
-                    if (!near) {
-                        ++flat;
-                        if (std::abs(r[c]) > 0.0) max_rel_flat = std::max(max_rel_flat, err / std::abs(r[c]));
-                        if (err > tol) { ++bad; worst = i; worst_sweep = swp; }
-                        continue;
-                    }
-                    ++transition;
-                    double allowed;
-                    if (width > 0.0) {
-                        const double slope = 1.5 / width;
-                        allowed = tol + m.albedo[c] * d_jumps * slope * kDeltaNoL + m.specular[c] * s_max * slope * kDeltaNoL +
-                                  m.specular[c] * (n > 0.0 ? s_jumps * slope * dx : s_jumps * dx);
-                    } else {
-                        // hard bands: at most every jump at once (in practice one band)
-                        allowed = tol + m.albedo[c] * d_jumps + m.specular[c] * (s_max + s_jumps);
-                        if (err > tol) {
-                            ++mismatches;
-                            max_dist_ulps = std::max(max_dist_ulps, std::min(dNoL, dNoH) / kU);
-                        }
-                    }
-                    if (allowed > 0.0) worst_ratio = std::max(worst_ratio, err / allowed);
-                    if (err > allowed) { ++bad; worst = i; worst_sweep = swp; }
-                }
+        std::size_t flat = 0, transition = 0, mismatches = 0;
+        double max_rel_flat = 0.0, max_dist_ulps = 0.0;
+        const auto e = test::check_kernel_against_reference(m, [&](const test::Compared& v) {
+            const double NoL = v.NoL();
+            const glm::dvec3 h = v.L() + v.V();
+            const double hl = glm::length(h);
+            const bool h_defined = hl > 1e-10;
+            const double NoH = h_defined ? glm::dot(v.N(), h) / hl : 0.0;
+            // distance to the nearest edge, in NoL and in NoH units
+            double dNoL = std::abs(NoL);   // the highlight gate
+            for (double t : dt) dNoL = std::min(dNoL, std::abs(NoL - t));
+            double dNoH = 1e9;
+            if (h_defined)
+                for (double edge : noh_edges) dNoH = std::min(dNoH, std::abs(NoH - edge));
+            const double half = 0.5 * width;
+            const bool near = dNoL <= half + kDeltaNoL || dNoH <= kDeltaNoH + (half > 0.0 ? 1.0 : 0.0);
+            const int c = v.c;
+            const double err = v.err(), tol = kTightRel * (std::abs(v.r) + m.albedo[c] + m.specular[c]);
+            if (!near) {   // away from every edge: a few ulps
+                ++flat;
+                if (std::abs(v.r) > 0.0) max_rel_flat = std::max(max_rel_flat, err / std::abs(v.r));
+                return tol;
             }
-        }
-        const test::DirectionSweep& sw = *worst_sweep;
-        std::cout << "  " << std::left << std::setw(40) << describe(m) << std::right << " away from edges " << std::setw(6)
+            ++transition;
+            // width > 0: Lipschitz bound of the smoothsteps (slope <= 1.5 / width per unit jump) times the
+            // input error; the highlight's x moves by at most (NoH + dNoH)^n - NoH^n, and at n = 0 it jumps.
+            double dx = 0.0;
+            if (h_defined && NoH > -kDeltaNoH) {
+                const double up = std::pow(std::max(NoH, 0.0) + kDeltaNoH, n);
+                dx = n > 0.0 ? up - (NoH > 0.0 ? std::pow(NoH, n) : 0.0) : (NoH <= kDeltaNoH ? 1.0 : 0.0);
+            }
+            if (width > 0.0) {
+                const double slope = 1.5 / width;
+                return tol + m.albedo[c] * d_jumps * slope * kDeltaNoL + m.specular[c] * s_max * slope * kDeltaNoL +
+                       m.specular[c] * (n > 0.0 ? s_jumps * slope * dx : s_jumps * dx);
+            }
+            // hard bands: at most every jump at once (in practice one band)
+            if (err > tol) {
+                ++mismatches;
+                max_dist_ulps = std::max(max_dist_ulps, std::min(dNoL, dNoH) / kU);
+            }
+            return tol + m.albedo[c] * d_jumps + m.specular[c] * (s_max + s_jumps);
+        }, {&test::sweep(), &on_edges});
+        std::cout << "  " << std::left << std::setw(40) << test::describe(m) << std::right << " away from edges " << std::setw(6)
                   << flat << " values, max rel " << std::setw(11) << max_rel_flat << "; near edges " << std::setw(5)
                   << transition;
-        if (width > 0.0) std::cout << " values, max err/bound " << worst_ratio << "\n";
+        if (width > 0.0) std::cout << " values, max err/bound " << e.worst_ratio << "\n";
         else std::cout << " values, " << mismatches << " in the other band (<= " << max_dist_ulps << " u from the edge)\n";
-        INFO(describe(m, true) << ": worst triple " << worst << " (" << sw.kind[worst] << ")");
-        CHECK(non_finite == 0);
-        CHECK(bad == 0);
+        test::expect_within(e, test::sweep().size());
     }
 }
 

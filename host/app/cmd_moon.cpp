@@ -122,10 +122,11 @@ std::string geometry_text(const ImageGeometry& g) {
 }
 
 std::string column_name(const PhotometricModel& m) {
-    if (m.kind == "minnaert") return "I_minnaert_k" + num(m.k);
-    if (m.kind == "lunar_lambert") return "I_lunar_lambert_L" + num(m.lunar_l);
-    if (m.kind == "catalogue") return "I_" + m.material.model;
-    return "I_" + m.kind;
+    const NamedLaw* l = named_law(m.kind);
+    if (!l) return "I_" + m.material.model;   // a catalogue model
+    if (l->param == "k") return "I_" + l->name + "_k" + num(m.k);
+    if (l->param == "l") return "I_" + l->name + "_L" + num(m.lunar_l);
+    return "I_" + l->name;
 }
 
 }  // namespace moon_cli

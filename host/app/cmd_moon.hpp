@@ -70,12 +70,13 @@ struct ModelArgs {
 
     void add_to(CLI::App* cmd, bool many) {
         auto* m = cmd->add_option("-m,--model", models,
-                                  "minnaert (1941, --k), lambert, lommel_seeliger, lunar_lambert (--lunar-l), or a "
-                                  "catalogue model (see 'shadelab models') evaluated by its double reference");
+                                  "minnaert (minnaert_1941, --k), lambert, lommel_seeliger, lunar_lambert (--lunar-l), "
+                                  "or a catalogue model (see 'shadelab models'); each is its catalogue model's double "
+                                  "reference");
         if (many) m->delimiter(',');
         m->capture_default_str();
-        auto* ko = cmd->add_option("--k", k, "Minnaert 1941 k (closed form 'minnaert')");
-        auto* lo = cmd->add_option("--lunar-l", lunar_l, "McEwen's Lunar-Lambert L in [0, 1]");
+        auto* ko = cmd->add_option("--k", k, "Minnaert 1941 k of 'minnaert', in [0, 2]");
+        auto* lo = cmd->add_option("--lunar-l", lunar_l, "McEwen's Lunar-Lambert L of 'lunar_lambert', in [-1, 2]");
         if (many) {
             ko->delimiter(',');
             lo->delimiter(',');
@@ -83,7 +84,7 @@ struct ModelArgs {
         ko->capture_default_str();
         lo->capture_default_str();
         cmd->add_option("-p,--param", params, "Catalogue model parameter name=value (repeatable)");
-        cmd->add_option("--albedo,--b0", albedo, "B0 of the closed forms; grey albedo of catalogue models")
+        cmd->add_option("--albedo,--b0", albedo, "B0 of the named laws; grey albedo of catalogue models")
             ->capture_default_str();
     }
 
@@ -92,15 +93,13 @@ struct ModelArgs {
         std::vector<PhotometricModel> out;
         const auto ps = parse_params(params);
         for (const auto& name : models) {
-            std::string n = name;
-            std::replace(n.begin(), n.end(), '-', '_');
-            if (n == "minnaert")
-                for (double kk : k) out.push_back(make_photometric_model(n, kk, 0.0, albedo));
-            else if (n == "lunar_lambert")
-                for (double l : lunar_l) out.push_back(make_photometric_model(n, 0.0, l, albedo));
+            const NamedLaw* l = named_law(name);
+            if (l && l->param == "k")
+                for (double kk : k) out.push_back(make_photometric_model(name, kk, 0.0, albedo));
+            else if (l && l->param == "l")
+                for (double ll : lunar_l) out.push_back(make_photometric_model(name, 0.0, ll, albedo));
             else
-                out.push_back(make_photometric_model(name, 0.0, 0.0, albedo,
-                                                     n == "lambert" || n == "lommel_seeliger" ? decltype(ps){} : ps));
+                out.push_back(make_photometric_model(name, 0.0, 0.0, albedo, l ? decltype(ps){} : ps));
         }
         return out;
     }

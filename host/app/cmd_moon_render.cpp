@@ -92,8 +92,9 @@ std::map<std::string, std::string> disc_keywords(const RenderArgs& a, const Disc
                                           {"ALBEDO", num(a.albedo, 10)},
                                           {"BUNIT", "I/F"},
                                           {"ORIGIN", "shadelab moon render"}};
-    if (law_name == "minnaert") kw["P_K"] = num(a.k, 10);
-    if (law_name == "lunar_lambert") kw["P_L"] = num(a.lunar_l, 10);
+    const NamedLaw* named = named_law(law_name);
+    if (named && named->param == "k") kw["P_K"] = num(a.k, 10);
+    if (named && named->param == "l") kw["P_L"] = num(a.lunar_l, 10);
     for (const auto& [k, v] : o.material.params) {
         std::string key = "P_" + k;
         std::transform(key.begin(), key.end(), key.begin(), [](unsigned char c) { return char(std::toupper(c)); });
@@ -120,13 +121,14 @@ void print_disc(const RenderArgs& a, const DiscRenderOptions& o, const DiscRende
 }
 
 // A catalogue model is shaded by its kernel through the render path (host/pipeline/: per pixel, precise; the disc
-// is orthographic, so per-vertex shading and --tolerance do not apply); the closed-form laws that are not
-// catalogue models are drawn in double without a kernel.
+// is orthographic, so per-vertex shading and --tolerance do not apply); the named laws that take moon's own
+// options (--k, --lunar-l) or normalisation (Lommel-Seeliger's B0) are drawn in double by their catalogue
+// model's reference, without a kernel.
 void run_render(const RenderArgs& a) {
     DiscRenderOptions o = disc_options(a);
-    std::string law_name = a.model;
-    std::replace(law_name.begin(), law_name.end(), '-', '_');
-    const bool law = law_name == "minnaert" || law_name == "lommel_seeliger" || law_name == "lunar_lambert";
+    const NamedLaw* named = named_law(a.model);
+    const bool law = named && (!named->param.empty() || named->b0_scale != 1.0);
+    const std::string law_name = named ? named->name : a.model;
     PhotometricModel law_model;
     if (law) {
         law_model = make_photometric_model(law_name, a.k, a.lunar_l, a.albedo, parse_params(a.params));

@@ -53,50 +53,70 @@ glm::dvec3 normal_at(double lambda, double beta, const SunGeometry& sun) {
     return cb * std::sin(lambda) * sun.u + std::sin(beta) * sun.w + cb * std::cos(lambda) * sun.V;
 }
 
-double minnaert(double mu0, double mu, double k, double B0) {
-    if (!(mu0 > 0.0) || !(mu > 0.0)) return 0.0;
-    // mu^(k-1) diverges at the limb for k < 1: the floor keeps it finite (see kMuFloor).
-    return B0 * std::pow(mu0, k) * std::pow(std::max(mu, kMuFloor), k - 1.0);
+// The law names moon takes, each a catalogue model (the catalogue's reference is the one definition).
+const std::vector<NamedLaw>& named_laws() {
+    static const std::vector<NamedLaw> laws = {
+        {"minnaert", "minnaert_1941", "k", "Minnaert 1941", 1.0},
+        {"lambert", "lambert", "", "Lambert", 1.0},
+        // the catalogue's (ISIS's) Lommel-Seeliger is 2 mu0 / (mu0 + mu): moon's classical form is half of it
+        {"lommel_seeliger", "lommel_seeliger", "", "Lommel-Seeliger", 0.5},
+        {"lunar_lambert", "lunar_lambert", "l", "Lunar-Lambert", 1.0},
+    };
+    return laws;
 }
 
-double lambert(double mu0, double B0) { return mu0 > 0.0 ? B0 * mu0 : 0.0; }
-
-double lommel_seeliger(double mu0, double mu, double B0) {
-    if (!(mu0 > 0.0) || !(mu > 0.0)) return 0.0;
-    return B0 * mu0 / (mu0 + mu);
-}
-
-double lunar_lambert(double mu0, double mu, double L, double B0) {
-    if (!(mu0 > 0.0) || !(mu > 0.0)) return 0.0;
-    return B0 * mu0 * ((1.0 - L) + 2.0 * L / (mu0 + mu));
+const NamedLaw* named_law(const std::string& typed) {
+    std::string n = typed;
+    std::replace(n.begin(), n.end(), '-', '_');
+    for (const NamedLaw& l : named_laws())
+        if (l.name == n) return &l;
+    return nullptr;
 }
 
 double PhotometricModel::value(const glm::dvec3& N, const SunGeometry& sun) const {
-    const double mu0 = glm::dot(N, sun.L), mu = glm::dot(N, sun.V);
-    if (kind == "minnaert") return minnaert(mu0, mu, k, B0);
-    if (kind == "lambert") return mu > 0.0 ? lambert(mu0, B0) : 0.0;
-    if (kind == "lommel_seeliger") return lommel_seeliger(mu0, mu, B0);
-    if (kind == "lunar_lambert") return lunar_lambert(mu0, mu, lunar_l, B0);
-    if (kind == "catalogue") {
-        if (!(mu > 0.0)) return 0.0;   // the far side is not seen
-        const glm::dvec3 v = ref::eval_material(N, sun.L, sun.V, N, material);
-        const double grey = (v.x + v.y + v.z) / 3.0;
-        // A model's reference may be unbounded at the limb (Minnaert 1941 with k < 1 at mu -> 0); a curve
-        // never shows Inf: such a point reads 0, like the kernels' sl_finite_or_zero.
-        return std::isfinite(grey) ? grey : 0.0;
-    }
-    throw Error("internal: unknown photometric model kind '" + kind + "'");
+    if (!(glm::dot(N, sun.V) > 0.0)) return 0.0;   // the far side is not seen
+    const glm::dvec3 v = ref::eval_material(N, sun.L, sun.V, N, material);
+    const double grey = (v.x + v.y + v.z) / 3.0;
+    // A model's reference may be unbounded at the limb (a Minnaert shader form with k < 0 at mu -> 0); a curve
+    // never shows Inf: such a point reads 0, like the kernels' sl_finite_or_zero.
+    return std::isfinite(grey) ? grey : 0.0;
 }
 
 std::string PhotometricModel::describe() const {
-    if (kind == "minnaert") return "Minnaert 1941 k=" + num(k) + " B0=" + num(B0);
-    if (kind == "lambert") return "Lambert B0=" + num(B0);
-    if (kind == "lommel_seeliger") return "Lommel-Seeliger B0=" + num(B0);
-    if (kind == "lunar_lambert") return "Lunar-Lambert L=" + num(lunar_l) + " B0=" + num(B0);
+    if (const NamedLaw* l = named_law(kind)) {
+        std::string s = l->title;
+        if (l->param == "k") s += " k=" + num(k);
+        if (l->param == "l") s += " L=" + num(lunar_l);
+        return s + " B0=" + num(B0);
+    }
     std::string s = material.model;
     for (const auto& [name, v] : material.params) s += " " + name + "=" + num(v);
     return s + " albedo=" + num(material.albedo.y);
 }
+
+namespace {
+// A named law's parameter (k or L) within its catalogue model's range, else one line naming both.
+void check_law_param(const NamedLaw& l, double v) {
+    if (l.param.empty()) return;
+    for (const ParamSpec& p : find_model(l.model).params) {
+        if (p.name != l.param) continue;
+        if (std::isfinite(v) && v >= p.lo && v <= p.hi) return;
+        const std::string what = l.param == "k" ? "Minnaert k " : "Lunar-Lambert L ";
+        const std::string opt = l.param == "k" ? "k" : "L";
+        throw Error(what + num(v) + " is out of range: use " + num(p.lo) + " <= " + opt + " <= " + num(p.hi) +
+                    " (the catalogue's " + l.model + (l.param == "k" ? "; the Moon: about 0.5 to 0.9)" : ")"));
+    }
+}
+
+// The catalogue material of a named law: its model, its parameter, grey albedo B0 times the law's scale.
+Material law_material(const NamedLaw& l, double k, double lunar_l, double B0) {
+    Material mat;
+    mat.model = l.model;
+    if (!l.param.empty()) mat.params[l.param] = l.param == "k" ? k : lunar_l;
+    mat.albedo = glm::dvec3(B0 * l.b0_scale);
+    return resolve_material(mat, "--model " + l.name);
+}
+}  // namespace
 
 PhotometricModel make_photometric_model(const std::string& name, double k, double lunar_l, double B0,
                                         const std::map<std::string, double>& params) {
@@ -105,17 +125,12 @@ PhotometricModel make_photometric_model(const std::string& name, double k, doubl
     m.B0 = B0;
     m.k = k;
     m.lunar_l = lunar_l;
-    std::string n = name;
-    std::replace(n.begin(), n.end(), '-', '_');
-    const bool closed = n == "minnaert" || n == "lambert" || n == "lommel_seeliger" || n == "lunar_lambert";
-    if (closed) {
+    if (const NamedLaw* l = named_law(name)) {
         if (!params.empty())
-            throw Error("model '" + name + "' is a closed form: give its k with --k and L with --lunar-l, not -p");
-        if (n == "minnaert" && (!std::isfinite(k) || k < 0.0 || k > 4.0))
-            throw Error("Minnaert k " + num(k) + " is out of range: use 0 <= k <= 4 (the Moon: about 0.5 to 0.9)");
-        if (n == "lunar_lambert" && (!std::isfinite(lunar_l) || lunar_l < 0.0 || lunar_l > 1.0))
-            throw Error("Lunar-Lambert L " + num(lunar_l) + " is out of range: use 0 <= L <= 1");
-        m.kind = n;
+            throw Error("model '" + name + "' is a named law: give its k with --k and L with --lunar-l, not -p");
+        check_law_param(*l, l->param == "k" ? k : lunar_l);
+        m.kind = l->name;
+        m.material = law_material(*l, k, lunar_l, B0);
         return m;
     }
     m.kind = "catalogue";
@@ -151,25 +166,6 @@ MinnaertEquivalent minnaert_equivalent(const Material& m) {
         e = {false, 0.0, 0.0, "'" + m.model + "' is not in the Minnaert family"};
     }
     return e;
-}
-
-double minnaert_variant_value(const Material& m, double mu0, double mu) {
-    if (!(mu0 > 0.0) || !(mu > 0.0)) return 0.0;
-    const double a = m.albedo.y;
-    if (m.model == "minnaert_1941") return minnaert(mu0, mu, m.params.at("k"), a);
-    if (m.model == "minnaert_normalized") return minnaert(mu0, mu, m.params.at("k"), a * (m.params.at("k") + 1.0) / 2.0);
-    if (m.model == "minnaert_unity") return a * std::min(1.0, minnaert(mu0, mu, m.params.at("k") + 1.0, 1.0));
-    if (m.model == "minnaert_blender") {
-        const double d = m.params.at("darkness");
-        if (d <= 1.0) return a * mu0 * std::pow(std::max(mu * mu0, 0.1), d - 1.0);
-        return a * mu0 * std::pow(1.001 - mu, d - 1.0);
-    }
-    if (m.model == "minnaert_b") {
-        const double k = m.params.at("k");
-        return a * std::pow(mu0, 1.0 + k) * std::pow(1.0 - mu, 1.0 - k);
-    }
-    if (m.model == "lambert") return lambert(mu0, a);
-    throw Error("model '" + m.model + "' has no closed form in mu0, mu here (the Minnaert family and lambert do)");
 }
 
 namespace {

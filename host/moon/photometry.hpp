@@ -52,49 +52,51 @@ PhotometricAngles photometric_angles(const glm::dvec3& N, const SunGeometry& sun
 // The unit normal at photometric longitude lambda and latitude beta (radians).
 glm::dvec3 normal_at(double lambda, double beta, const SunGeometry& sun);
 
-// --- Reflectance laws in mu0, mu (values are I/F for unit solar flux: a white Lambert surface lit and seen
-// head-on gives 1, as everywhere in shadelab). Each returns 0 where mu0 <= 0 (unlit) or mu <= 0 (not seen).
+// --- Reflectance laws (values are I/F for unit solar flux: a white Lambert surface lit and seen head-on gives 1,
+// as everywhere in shadelab); 0 where mu0 <= 0 (unlit) or mu <= 0 (not seen).
 //
-// At the limb (mu -> 0) Minnaert's law with k < 1 grows without bound like mu^(k-1): these functions
-// evaluate mu as max(mu, kMuFloor) so the result stays finite; kMuFloor = 1e-9 only matters for points
-// within 1e-18 disc radii of the limb, never at a pixel centre of a sane image.
-constexpr double kMuFloor = 1e-9;
-
-// Minnaert (1941), ApJ 93:403: I = B0 mu0^k mu^(k-1). At zero phase I = B0 mu^(2k-1): k = 0.5 is a flat disc,
-// k = 1 is Lambert.
-double minnaert(double mu0, double mu, double k, double B0);
-// Lambert: I = B0 mu0.
-double lambert(double mu0, double B0);
-// Lommel-Seeliger: I = B0 mu0 / (mu0 + mu) (flat disc at zero phase, value B0/2).
-double lommel_seeliger(double mu0, double mu, double B0);
-// Lunar-Lambert (McEwen 1991, Icarus 92:298): I = B0 mu0 ((1 - L) + 2 L / (mu0 + mu)).
-// L = 0 is Lambert, L = 1 is twice Lommel-Seeliger.
-double lunar_lambert(double mu0, double mu, double L, double B0);
+// Every law is a catalogue model evaluated by its double reference (host/reference/), the same definition the
+// kernels compute; moon keeps four names for the classical laws, with its own parameter options:
+//   minnaert (--k)          minnaert_1941, k:   B0 mu0^k mu^(k-1), Minnaert (1941) ApJ 93:403, with the
+//                           catalogue's limb guard (k < 1: each cosine's power held below 1e-3, faded to 0 at 0)
+//   lambert                 lambert:            B0 mu0
+//   lommel_seeliger         lommel_seeliger:    B0 mu0 / (mu0 + mu) (albedo B0 / 2 of ISIS's 2 mu0 / (mu0 + mu))
+//   lunar_lambert (--lunar-l) lunar_lambert, l: B0 mu0 ((1 - L) + 2 L / (mu0 + mu)), McEwen (1991) Icarus 92:298
+// The parameter ranges are the catalogue's (k in [0, 2], L in [-1, 2]).
+struct NamedLaw {
+    std::string name;    // what the user types ("lommel-seeliger" also)
+    std::string model;   // the catalogue model
+    std::string param;   // its parameter moon fills from --k ("k") or --lunar-l ("l"), or empty
+    std::string title;   // for plot titles and reports
+    double b0_scale;     // catalogue albedo = B0 * b0_scale
+};
+const std::vector<NamedLaw>& named_laws();
+// The named law `typed` ('-' read as '_'), or nullptr for any other name (a catalogue model's).
+const NamedLaw* named_law(const std::string& typed);
 
 // A reflectance law to draw curves of, or to compare an image with.
-//  kind "minnaert" (param k), "lambert", "lommel_seeliger", "lunar_lambert" (param L): the closed forms above;
-//  kind "catalogue": any model of the catalogue, evaluated with its double-precision reference
-//  (host/reference/) on the exact sphere normal, grey albedo B0; `material` holds its parameters.
+//  kind "minnaert" (param k), "lambert", "lommel_seeliger", "lunar_lambert" (param L): the named laws above;
+//  kind "catalogue": any model of the catalogue, with grey albedo B0 and its parameters.
+// Both are evaluated by `material`'s double-precision reference on the exact sphere normal.
 struct PhotometricModel {
     std::string kind = "minnaert";
     double k = 0.5;
     double lunar_l = 1.0;   // McEwen's L
     double B0 = 1.0;
-    Material material;      // kind "catalogue" only (resolved)
+    Material material;      // the catalogue model (resolved) that defines the law
 
-    // The value at unit normal N for this sun (uses mu0, mu for the closed forms, N, L, V for catalogue models).
+    // The value at unit normal N for this sun: the reference of `material` at N, L, V.
     double value(const glm::dvec3& N, const SunGeometry& sun) const;
-    std::string describe() const;   // "minnaert k=0.7 B0=1", for plot titles and reports
+    std::string describe() const;   // "Minnaert 1941 k=0.7 B0=1", for plot titles and reports
 };
 
-// Builds a model from what the user typed: the four closed-form names (also "lommel-seeliger",
-// "lunar-lambert"), else a catalogue model name (throws the catalogue's one-line error when unknown).
-// `params` are name=value for catalogue models; k and L apply to the closed forms.
+// Builds a model from what the user typed: a named law (k and L its parameters, -p refused), else a catalogue
+// model name with `params` name=value (throws the catalogue's one-line error when unknown or out of range).
 PhotometricModel make_photometric_model(const std::string& name, double k, double lunar_l, double B0,
                                         const std::map<std::string, double>& params = {});
 
-// --- The catalogue's Minnaert family in photometric cosines, written from docs/models/minnaert.md (no code
-// shared with the kernels or the references), and the 1941 law each one equals.
+// --- The catalogue's Minnaert family in photometric cosines (docs/models/minnaert.md), and the 1941 law each
+// one equals (what a fitted k of an image rendered with that model should come back as; tests/test_moon.cpp).
 //   minnaert_1941 (k)        B0 mu0^k mu^(k-1)                  k_1941 = k,      B0 = albedo
 //   minnaert_normalized (k)  albedo (k+1)/2 mu0^k mu^(k-1)      k_1941 = k,      B0 = albedo (k+1)/2
 //   minnaert_unity (k)       albedo min(1, mu0^(k+1) mu^k)      k_1941 = k + 1,  B0 = albedo, where the law <= 1
@@ -102,15 +104,13 @@ PhotometricModel make_photometric_model(const std::string& name, double k, doubl
 //   minnaert_blender (d>1)   albedo mu0 (1.001 - mu)^(d-1)      no 1941 equivalent
 //   minnaert_b (k)           albedo mu0^(1+k) (1 - mu)^(1-k)    no 1941 equivalent
 //   lambert                  albedo mu0                         k_1941 = 1,      B0 = albedo
-// The kernels' limb guard (mu or mu0 < 1e-3 with k < 1, docs/models/minnaert.md) is not part of these forms.
+// The catalogue's limb guard (mu or mu0 < 1e-3 with k < 1, docs/models/minnaert.md) aside.
 struct MinnaertEquivalent {
     bool exists = false;   // the model equals B0 mu0^k mu^(k-1) where `where` says
     double k = 0.0, B0 = 0.0;
     std::string where;     // the condition, or why there is no equivalent
 };
 MinnaertEquivalent minnaert_equivalent(const Material& resolved);
-// The model's value for mu0, mu > 0 (0 otherwise). Throws for models outside the table above.
-double minnaert_variant_value(const Material& resolved, double mu0, double mu);
 
 // --- Analytic profiles of a sphere of radius 1 (positions in disc radii).
 struct CurvePoint {
