@@ -126,8 +126,18 @@ AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostre
     const auto t0 = clock::now();
     std::vector<std::string> models = o.models;
     if (models.empty())
-        for (const auto& m : model_catalogue()) models.push_back(m.name);
-    for (const auto& m : models) find_model(m);   // every name checked before the long run
+        for (const auto& m : model_catalogue()) {
+            if (has_tables(m)) {   // the empirical family: a fit varies no table, so it would fit the albedo only
+                log << "fit --all: skipping " << m.name << ": its tables (" << m.tables.front().name
+                    << ", ...) are data, not fitted parameters\n";
+                continue;
+            }
+            models.push_back(m.name);
+        }
+    for (const auto& m : models)   // every name checked before the long run
+        if (has_tables(find_model(m)))
+            throw Error("fit --all: model '" + m + "' reads tables (" + find_model(m).tables.front().name +
+                        ", ...), which a fit does not vary: leave it out of --models");
     if (!o.out_dir.empty()) plot::find_gnuplot();
     const Material& target = problem.target_material();
     AllResult out;

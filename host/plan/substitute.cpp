@@ -190,8 +190,9 @@ SubstitutionPlan plan_substitutions(Runtime& rt, const PlanInput& in_raw, const 
         phase = clock_type::now();
         const double own = speed_of(req.model);
         std::vector<std::pair<double, std::string>> cands;
+        // not a table model (the empirical family): a fit varies no table, so its default tables would stand in
         for (const auto& info : model_catalogue())
-            if (info.children == 0 && info.name != req.model && speed_of(info.name) >= 1.1 * own)
+            if (info.children == 0 && !has_tables(info) && info.name != req.model && speed_of(info.name) >= 1.1 * own)
                 cands.push_back({speed_of(info.name), info.name});
         std::sort(cands.rbegin(), cands.rend());   // fastest first
         plan.rank_ms += ms_since(phase);

@@ -71,6 +71,8 @@ public:
     static std::vector<std::string> defines_for(const Material& resolved, int num_lights,
                                                 Precision precision = Precision::Precise);
     static std::string options_for(Precision precision);
+    // Shader::shade's defines for a resolved material and its lights (defines_for plus the light options).
+    static std::vector<std::string> shade_defines(const Material& resolved, const ShadeSetup& setup);
 
     // Work-group size used for the launches (a multiple of the vector width helps PoCL's vectoriser).
     static constexpr std::size_t kLocalSize = 256;
