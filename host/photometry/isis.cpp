@@ -197,6 +197,40 @@ std::string Law::describe() const {
     return s.str();
 }
 
+// The tables of an empirical law's Algorithm group (PhaseList, KList or LList, PhaseCurveList), checked.
+static void read_empirical_tables(Law& law, const pvl::Block& alg, const std::string& isis, const std::string& file) {
+    law.empirical = pvl::iequals(isis, "MinnaertEmpirical") ? 1 : 2;
+    const char* pkey = law.empirical == 1 ? "KList" : "LList";
+    auto table = [&](const char* key) {
+        const pvl::Keyword* kw = alg.keyword(key);
+        if (!kw)
+            throw Error(at(file, alg.line) + isis + " needs keyword " + key +
+                        " (PhaseList, " + pkey + " and PhaseCurveList, one entry per phase angle)");
+        return std::make_pair(kw, parse_table(*kw, file));
+    };
+    const auto [kp, phases] = table("PhaseList");
+    const auto [kk, params] = table(pkey);
+    const auto [kb, bright] = table("PhaseCurveList");
+    if (phases.size() < 3)
+        throw Error(at(file, kp->line) + "PhaseList has " + std::to_string(phases.size()) +
+                    " entries: ISIS's spline needs at least 3");
+    for (std::size_t j = 0; j < phases.size(); ++j) {
+        if (phases[j] < 0.0 || phases[j] > 180.0)
+            throw Error(at(file, kp->line) + "PhaseList entry " + std::to_string(j + 1) + " = " + num(phases[j]) +
+                        " is out of range: allowed 0 <= phase <= 180 degrees");
+        if (j > 0 && !(phases[j] > phases[j - 1]))
+            throw Error(at(file, kp->line) + "PhaseList is not increasing: entry " + std::to_string(j + 1) + " = " +
+                        num(phases[j]) + " follows " + num(phases[j - 1]) + " (phases must be strictly increasing)");
+    }
+    if (params.size() != phases.size())
+        throw Error(at(file, kk->line) + std::string(pkey) + " has " + std::to_string(params.size()) +
+                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
+    if (bright.size() != phases.size())
+        throw Error(at(file, kb->line) + "PhaseCurveList has " + std::to_string(bright.size()) +
+                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
+    set_empirical_tables(law, phases, params, bright);
+}
+
 Law law_from_pvl(const pvl::Block& root, const std::string& file) {
     const pvl::Block* obj = root.find("Object", "PhotometricModel");
     if (!obj) throw Error(file + ": no 'Object = PhotometricModel' (ISIS's photometric parameter form)");
@@ -268,36 +302,7 @@ Law law_from_pvl(const pvl::Block& root, const std::string& file) {
     }
 
     // The empirical laws: three tables over phase, no defaults (ISIS refuses a file without them).
-    law.empirical = pvl::iequals(spec->isis, "MinnaertEmpirical") ? 1 : 2;
-    const char* pkey = law.empirical == 1 ? "KList" : "LList";
-    auto table = [&](const char* key) {
-        const pvl::Keyword* kw = alg->keyword(key);
-        if (!kw)
-            throw Error(at(file, alg->line) + spec->isis + " needs keyword " + key +
-                        " (PhaseList, " + pkey + " and PhaseCurveList, one entry per phase angle)");
-        return std::make_pair(kw, parse_table(*kw, file));
-    };
-    const auto [kp, phases] = table("PhaseList");
-    const auto [kk, params] = table(pkey);
-    const auto [kb, bright] = table("PhaseCurveList");
-    if (phases.size() < 3)
-        throw Error(at(file, kp->line) + "PhaseList has " + std::to_string(phases.size()) +
-                    " entries: ISIS's spline needs at least 3");
-    for (std::size_t j = 0; j < phases.size(); ++j) {
-        if (phases[j] < 0.0 || phases[j] > 180.0)
-            throw Error(at(file, kp->line) + "PhaseList entry " + std::to_string(j + 1) + " = " + num(phases[j]) +
-                        " is out of range: allowed 0 <= phase <= 180 degrees");
-        if (j > 0 && !(phases[j] > phases[j - 1]))
-            throw Error(at(file, kp->line) + "PhaseList is not increasing: entry " + std::to_string(j + 1) + " = " +
-                        num(phases[j]) + " follows " + num(phases[j - 1]) + " (phases must be strictly increasing)");
-    }
-    if (params.size() != phases.size())
-        throw Error(at(file, kk->line) + std::string(pkey) + " has " + std::to_string(params.size()) +
-                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
-    if (bright.size() != phases.size())
-        throw Error(at(file, kb->line) + "PhaseCurveList has " + std::to_string(bright.size()) +
-                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
-    set_empirical_tables(law, phases, params, bright);
+    read_empirical_tables(law, *alg, spec->isis, file);
     return law;
 }
 
