@@ -5,6 +5,7 @@
 //   SL_ALL_DIRECTIONAL  1 when every light is directional (optional)
 //   SL_TABLE         1 when the model reads a per-material table (the empirical family, kernels/consts/empirical.h):
 //                    its eval takes the kernels' `tab` argument as a sixth argument (optional)
+//   SL_TABLE_KNOTS   with SL_TABLE: the most knots the material's table may have in this program (4, 8, 16, 32)
 // so each program holds only the model and options a scene uses.
 #include "common.cl"
 #include SL_MODEL_HEADER

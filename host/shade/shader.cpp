@@ -89,6 +89,22 @@ cl::Buffer padded_input(cl::Context& ctx, cl::CommandQueue& q, const std::vector
     return b;
 }
 
+// The knot count a table model's program is built for: the material's, rounded up to 4, 8, 16 or the most the
+// family allows (the kernel scans that many segment starts, so a short table does not pay for the longest; one
+// program per bucket).
+std::size_t table_knots_bucket(const ModelInfo& info, const Material& m) {
+    std::size_t knots = 2, most = 2;
+    for (const auto& t : info.tables)
+        if (t.knots) {
+            auto it = m.tables.find(t.name);
+            knots = it == m.tables.end() ? t.def.size() : it->second.size();
+            most = t.max_length;
+        }
+    for (std::size_t b : {std::size_t(4), std::size_t(8), std::size_t(16)})
+        if (knots <= b && b < most) return b;
+    return most;
+}
+
 }  // namespace
 
 const char* precision_name(Precision p) { return p == Precision::Fast ? "fast" : "precise"; }
@@ -108,7 +124,10 @@ std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, 
     std::vector<std::string> d{"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
                                "SL_NUM_LIGHTS=" + std::to_string(num_lights)};
     if (precision == Precision::Fast) d.push_back("SL_FAST=1");
-    if (has_tables(info)) d.push_back("SL_TABLE=1");   // its eval takes the table buffer (kernels/shade.cl)
+    if (has_tables(info)) {   // its eval takes the table buffer (kernels/shade.cl), scanned up to SL_TABLE_KNOTS
+        d.push_back("SL_TABLE=1");
+        d.push_back("SL_TABLE_KNOTS=" + std::to_string(table_knots_bucket(info, m)));
+    }
     for (std::size_t c = 0; c < m.children.size(); ++c) {
         const ModelInfo& ci = find_model(m.children[c].model);
         d.push_back("SL_CHILD" + std::to_string(c) + "_HEADER=<" + ci.header + ">");

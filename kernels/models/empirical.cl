@@ -17,6 +17,14 @@
 #include "consts/empirical.h"
 #include "planetary.cl"
 
+// The segments scanned: the program is built for a bucket of knot counts (SL_TABLE_KNOTS, host/shade/shader.cpp:
+// 4, 8, 16 or 32), so a 7-knot table scans 7 segment starts, not 31; the unused ones start beyond every phase.
+#if defined(SL_TABLE_KNOTS) && SL_TABLE_KNOTS < SL_EMP_MAX_KNOTS
+#define SL_EMP_SCAN (SL_TABLE_KNOTS - 1)
+#else
+#define SL_EMP_SCAN SL_EMP_MAX_SEGMENTS
+#endif
+
 // K(g) or L(g) (*param) and B(g) (*bright) at phase g (degrees) from the segments in `tab`. The segment is found
 // by a scan of fixed length over every segment start, each step a compare and selects (no data-dependent loop,
 // no indexed load: either would stop PoCL's work-item loop vectoriser, and every load here is the same for all
@@ -28,7 +36,7 @@ SL_INLINE void Emp_splines(float g, __global const float* restrict tab, float* p
     float x = seg[0].start, p0 = seg[0].param[0], p1 = seg[0].param[1], p2 = seg[0].param[2], p3 = seg[0].param[3];
     float b0 = seg[0].bright[0], b1 = seg[0].bright[1], b2 = seg[0].bright[2], b3 = seg[0].bright[3];
 #pragma unroll
-    for (int j = 1; j < SL_EMP_MAX_SEGMENTS; ++j) {
+    for (int j = 1; j < SL_EMP_SCAN; ++j) {
         const int in = g >= seg[j].start;
         x = in ? seg[j].start : x;
         p0 = in ? seg[j].param[0] : p0;
