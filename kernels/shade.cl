@@ -3,6 +3,9 @@
 //   SL_EVAL          e.g. lambert_eval          sl_rgb f(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, consts*)
 //   SL_NUM_LIGHTS    number of lights (the loop is unrolled for it)
 //   SL_ALL_DIRECTIONAL  1 when every light is directional (optional)
+//   SL_TABLE         1 when the model reads a per-material table (the empirical family, kernels/consts/empirical.h):
+//                    its eval takes the kernels' `tab` argument as a sixth argument (optional)
+//   SL_TABLE_KNOTS   with SL_TABLE: the most knots the material's table may have in this program (4, 8, 16, 32)
 // so each program holds only the model and options a scene uses.
 #include "common.cl"
 #include SL_MODEL_HEADER
@@ -16,6 +19,14 @@
 // light, two alternating runs).
 #ifndef SL_ALL_DIRECTIONAL
 #define SL_ALL_DIRECTIONAL 0
+#endif
+
+// Every kernel below takes the material's table buffer `tab` as its last argument (a 1-float buffer, never read,
+// for the models without a table); only a table model's eval is handed it.
+#if defined(SL_TABLE) && SL_TABLE
+#define SL_EVAL_AT(N, L, V, P, mc) SL_EVAL(N, L, V, P, mc, tab)
+#else
+#define SL_EVAL_AT(N, L, V, P, mc) SL_EVAL(N, L, V, P, mc)
 #endif
 
 // A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no
@@ -68,7 +79,8 @@ __kernel void shade_fragments(__global const float* restrict px, __global const 
                               __global const float* restrict ny, __global const float* restrict nz,
                               __global float* restrict out, const uint stride, const DeviceView view,
                               __constant const ModelConsts* mc, __constant const DeviceLight* lights,
-                              const float4 ambient) {
+                              const float4 ambient, __global const float* restrict tab) {
+    (void)tab;
     // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
     // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
     // lights, the model's c[]) under a condition, where PoCL's work-item loop cannot hoist them: vectorised,
@@ -86,7 +98,7 @@ __kernel void shade_fragments(__global const float* restrict px, __global const 
         // model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>, which
         // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
         L.x = sl_after(L.x, r);
-        const sl_rgb v = SL_EVAL(N, L, V, P, mc);
+        const sl_rgb v = SL_EVAL_AT(N, L, V, P, mc);
         __constant const float* rad = lights[l].radiance;
         r += (rad[0] * e) * v.r;
         g += (rad[1] * e) * v.g;
@@ -100,21 +112,23 @@ __kernel void shade_fragments(__global const float* restrict px, __global const 
 // The model alone at triple i of xyz-interleaved N, L, V, P (unmasked: tests/test_precision.cpp counts its NaN/Inf).
 SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global const float* L_,
                                    __global const float* V_, __global const float* P_,
-                                   __constant const ModelConsts* mc) {
+                                   __constant const ModelConsts* mc, __global const float* restrict tab) {
+    (void)tab;
     const sl_v3 N = sl_v3_make(N_[3 * i], N_[3 * i + 1], N_[3 * i + 2]);
     const sl_v3 L = sl_v3_make(L_[3 * i], L_[3 * i + 1], L_[3 * i + 2]);
     const sl_v3 V = sl_v3_make(V_[3 * i], V_[3 * i + 1], V_[3 * i + 2]);
     const sl_v3 P = sl_v3_make(P_[3 * i], P_[3 * i + 1], P_[3 * i + 2]);
-    return SL_EVAL(N, L, V, P, mc);
+    return SL_EVAL_AT(N, L, V, P, mc);
 }
 
 // The model alone for given unit directions (no lights, no attenuation): what the tests sweep.
 __kernel void eval_directions(__global const float* restrict N_, __global const float* restrict L_,
                               __global const float* restrict V_, __global const float* restrict P_,
-                              __global float* restrict out, const uint n, __constant const ModelConsts* mc) {
+                              __global float* restrict out, const uint n, __constant const ModelConsts* mc,
+                              __global const float* restrict tab) {
     const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes px[i] a gather
     if (i >= n) return;
-    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc);
+    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);
     out[3 * i] = sl_finite_or_zero(r.r);
     out[3 * i + 1] = sl_finite_or_zero(r.g);
     out[3 * i + 2] = sl_finite_or_zero(r.b);
@@ -130,7 +144,9 @@ __kernel void eval_directions(__global const float* restrict N_, __global const 
 //   sets:  consts_per_set ModelConsts per set (the model's own, then its children's: gradient reads mc[1], mc[2])
 // No bounds check: the host pads the samples to the launch size (zero directions, whose values are never read).
 __kernel void eval_batch(__global const float* restrict dirs, __global float* restrict out, const uint stride,
-                         const uint consts_per_set, __constant const ModelConsts* sets) {
+                         const uint consts_per_set, __constant const ModelConsts* sets,
+                         __global const float* restrict tab) {
+    (void)tab;
     const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes dirs[i] a gather
     const size_t s = get_global_id(1);
     const size_t st = stride;
@@ -139,7 +155,7 @@ __kernel void eval_batch(__global const float* restrict dirs, __global float* re
     const sl_v3 L = sl_v3_make(dirs[3 * st + i], dirs[4 * st + i], dirs[5 * st + i]);
     const sl_v3 V = sl_v3_make(dirs[6 * st + i], dirs[7 * st + i], dirs[8 * st + i]);
     const sl_v3 P = sl_v3_make(dirs[9 * st + i], dirs[10 * st + i], dirs[11 * st + i]);
-    const sl_rgb r = SL_EVAL(N, L, V, P, mc);
+    const sl_rgb r = SL_EVAL_AT(N, L, V, P, mc);
     __global float* o = out + 3 * s * st;
     o[i] = sl_finite_or_zero(r.r);
     o[st + i] = sl_finite_or_zero(r.g);

@@ -101,7 +101,7 @@ TEST_CASE("gradient blends every catalogue model pair: against its children's ke
           "[gradient][kernel]") {
     std::vector<std::string> names;
     for (const auto& info : model_catalogue())
-        if (info.children == 0) names.push_back(info.name);
+        if (info.children == 0 && !has_tables(info)) names.push_back(info.name);   // a blend's children read no table
     REQUIRE(names.size() >= 1);
     const auto sweep = test::make_sweep(20000, 5);
     const dvec3 g{0.3, -0.5, 0.8};

@@ -75,10 +75,11 @@ const char* const kRawKernel = R"CL(
 #include "shade.cl"
 __kernel void eval_directions_raw(__global const float* restrict N_, __global const float* restrict L_,
                                   __global const float* restrict V_, __global const float* restrict P_,
-                                  __global float* restrict out, const uint n, __constant const ModelConsts* mc) {
+                                  __global float* restrict out, const uint n, __constant const ModelConsts* mc,
+                                  __global const float* restrict tab) {
     const uint i = get_global_id(0);
     if (i >= n) return;
-    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc);
+    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);
     out[3 * i] = r.r;
     out[3 * i + 1] = r.g;
     out[3 * i + 2] = r.b;
@@ -119,9 +120,11 @@ std::vector<float> eval_kernel(cl::Program& prog, const char* kernel, const Mate
     cl::Buffer bout(runtime().context(), CL_MEM_WRITE_ONLY, 3 * n * sizeof(float));
     cl::Buffer bc(runtime().context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
                   const_cast<ModelConsts*>(consts.data()));
+    std::vector<float> tab = pack_table(m);   // the table buffer (one unread float for a model without tables)
+    cl::Buffer bt = read_only(tab);
     cl::Kernel k(prog, kernel);
     k.setArg(0, bn); k.setArg(1, bl); k.setArg(2, bv); k.setArg(3, bp);
-    k.setArg(4, bout); k.setArg(5, cl_uint(n)); k.setArg(6, bc);
+    k.setArg(4, bout); k.setArg(5, cl_uint(n)); k.setArg(6, bc); k.setArg(7, bt);
     runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, Shader::kLocalSize)),
                                            cl::NDRange(Shader::kLocalSize));
     std::vector<float> out(3 * n);

@@ -134,7 +134,7 @@ void run_fit(const FitArgs& a) {
     }
     if (!image) {
     target.model = a.target;
-    target.params = params_of(a.target_params);
+    for (const auto& p : a.target_params) add_param(target, p);
     target.albedo = glm::dvec3(a.albedo);
     target.specular = glm::dvec3(a.specular);
     const ModelInfo& tinfo = find_model(a.target);

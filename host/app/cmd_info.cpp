@@ -2,6 +2,7 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -23,16 +24,33 @@ nlohmann::json model_json(const ModelInfo& m) {
     for (const auto& p : m.params)
         params.push_back({{"name", p.name}, {"default", p.def}, {"min", p.lo}, {"max", p.hi},
                           {"integer", p.integer}, {"doc", p.doc}});
+    nlohmann::json tables = nlohmann::json::array();
+    for (const auto& t : m.tables)
+        tables.push_back({{"name", t.name}, {"isis", t.isis}, {"default", t.def}, {"min", t.lo}, {"max", t.hi},
+                          {"max_length", t.max_length}, {"knots", t.knots}, {"doc", t.doc}});
     return {{"name", m.name},
             {"family", m.family},
             {"summary", m.summary},
             {"source", m.source},
             {"params", params},
+            {"tables", tables},
             {"children", m.children},
             {"reciprocal", m.reciprocal},
             {"energy_conserving", m.energy_conserving},
             {"kernel", m.header},
             {"doc", doc_page(m)}};
+}
+
+// A table's default as "v1,v2,..." (what -p name=... takes).
+std::string list_text(const std::vector<double>& v) {
+    std::ostringstream s;
+    for (std::size_t j = 0; j < v.size(); ++j) s << (j ? "," : "") << v[j];
+    return s.str();
+}
+
+std::string table_line(const TableSpec& t) {
+    return t.name + "=" + list_text(t.def) + "  (ISIS " + t.isis + "; 2 to " + std::to_string(t.max_length) +
+           " entries in [" + list_text({t.lo}) + ", " + list_text({t.hi}) + "])  " + t.doc;
 }
 
 // One model in full: parameters with defaults and ranges, flags, source, doc page.
@@ -45,7 +63,8 @@ void print_model(const ModelInfo& m) {
               << "  flags:   " << (m.reciprocal ? "reciprocal" : "not reciprocal") << ", "
               << (m.energy_conserving ? "energy conserving" : "not energy conserving")
               << (m.children > 0 ? ", blends " + std::to_string(m.children) + " child materials" : "") << "\n";
-    if (m.params.empty()) std::cout << "  parameters: none\n";
+    if (m.params.empty() && m.tables.empty()) std::cout << "  parameters: none\n";
+    for (const auto& t : m.tables) std::cout << "  -p " << table_line(t) << "\n";
     for (const auto& p : m.params)
         std::cout << "  -p " << p.name << "=" << p.def << "  range [" << p.lo << ", " << p.hi << "]"
                   << (p.integer ? ", whole numbers" : "") << "  " << p.doc << "\n";
@@ -64,6 +83,7 @@ void print_catalogue() {
         for (const auto& p : m.params)
             std::cout << "    " << std::setw(int(param_w + 2)) << p.name << "default " << p.def << ", range ["
                       << p.lo << ", " << p.hi << "]  " << p.doc << "\n";
+        for (const auto& t : m.tables) std::cout << "    " << table_line(t) << "\n";
     }
 }
 

@@ -135,7 +135,7 @@ void run_render(const RenderArgs& a) {
     } else {
         Material mat;
         mat.model = a.model;
-        mat.params = parse_params(a.params);
+        for (const auto& p : a.params) add_param(mat, p);
         mat.albedo = glm::dvec3(a.albedo);
         o.material = resolve_material(mat, "--model " + a.model);
     }

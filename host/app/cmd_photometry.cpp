@@ -46,9 +46,9 @@ photometry::Law law_named(const std::string& pvl, const std::string& model, cons
         if (!params.empty()) throw Error("photometry eval: -p/--param goes with --model, not with --pvl");
         return photometry::law_from_pvl_file(pvl);
     }
-    std::map<std::string, double> p;
-    for (const auto& s : params) p.insert(parse_param(s));
-    return photometry::law_from_model(model, p);
+    Material m;
+    for (const auto& s : params) add_param(m, s);
+    return photometry::law_from_model(model, m.params, m.tables);
 }
 
 // The law the command line names (--pvl FILE, or --model NAME with -p), its warnings printed once here.

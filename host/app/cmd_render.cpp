@@ -54,10 +54,7 @@ Material material_of(const RenderArgs& a) {
     require_model_name(a.model, "--model");
     Material mat;
     mat.model = a.model;
-    for (const auto& p : a.params) {
-        const auto kv = parse_param(p);
-        mat.params[kv.first] = kv.second;
-    }
+    for (const auto& p : a.params) add_param(mat, p);
     mat.albedo = parse_vec3(a.albedo, "--albedo", 0.0, kMaxColour);
     mat.specular = parse_vec3(a.specular, "--specular", 0.0, kMaxColour);
     return resolve_material(mat, "--model " + a.model);

@@ -41,5 +41,8 @@ glm::dvec4 parse_vec4(const std::string& text, const std::string& option, double
 Light parse_light(const std::string& text);
 // "name=value"
 std::pair<std::string, double> parse_param(const std::string& text);
+// "name=value", or "name=v1,v2,..." for a table-valued parameter (the empirical family's phase_list, k_list, ...):
+// into m.params or m.tables (resolve_material checks both)
+void add_param(Material& m, const std::string& text);
 
 }  // namespace shadelab::app

@@ -73,7 +73,24 @@ Light parse_light(const std::string& text) {
 std::pair<std::string, double> parse_param(const std::string& text) {
     const auto eq = text.find('=');
     if (eq == std::string::npos || eq == 0) throw Error("--param expects name=value, got '" + text + "'");
+    if (text.find(',', eq) != std::string::npos)
+        throw Error("--param " + text.substr(0, eq) + ": '" + text.substr(eq + 1) +
+                    "' is a list (a table), and this option takes one number per parameter");
     return {text.substr(0, eq), parse_number(text.substr(eq + 1), "--param " + text.substr(0, eq))};
+}
+
+void add_param(Material& m, const std::string& text) {
+    const auto eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) throw Error("--param expects name=value or name=v1,v2,..., got '" + text + "'");
+    const std::string name = text.substr(0, eq), value = text.substr(eq + 1);
+    if (value.find(',') == std::string::npos) {
+        m.params[name] = parse_number(value, "--param " + name);
+        return;
+    }
+    std::vector<double> list;
+    for (const auto& item : split(value, ','))
+        list.push_back(parse_number(item, "--param " + name + " (entry " + std::to_string(list.size() + 1) + ")"));
+    m.tables[name] = list;
 }
 
 }  // namespace shadelab::app

@@ -115,13 +115,29 @@ double measure_mfrag_per_s(Runtime& rt, const Material& m, std::size_t fragments
     return double(fragments) / (best * 1e-3) * 1e-6;
 }
 
+// The models --all fits: `given` (each checked), or the catalogue's. A table model (the empirical family) is not a
+// candidate: a fit varies no table, so it would fit its albedo at its default tables only.
+static std::vector<std::string> candidate_models(const std::vector<std::string>& given, std::ostream& log) {
+    std::vector<std::string> models = given;
+    if (models.empty())
+        for (const auto& m : model_catalogue()) {
+            if (has_tables(m))
+                log << "fit --all: skipping " << m.name << ": its tables (" << m.tables.front().name
+                    << ", ...) are data, not fitted parameters\n";
+            else
+                models.push_back(m.name);
+        }
+    for (const auto& m : models)   // every name checked before the long run
+        if (has_tables(find_model(m)))
+            throw Error("fit --all: model '" + m + "' reads tables (" + find_model(m).tables.front().name +
+                        ", ...), which a fit does not vary: leave it out of --models");
+    return models;
+}
+
 AllResult fit_all(Runtime& rt, Problem& problem, const AllOptions& o, std::ostream& log) {
     using clock = std::chrono::steady_clock;
     const auto t0 = clock::now();
-    std::vector<std::string> models = o.models;
-    if (models.empty())
-        for (const auto& m : model_catalogue()) models.push_back(m.name);
-    for (const auto& m : models) find_model(m);   // every name checked before the long run
+    const std::vector<std::string> models = candidate_models(o.models, log);
     if (!o.out_dir.empty()) plot::find_gnuplot();
     const Material& target = problem.target_material();
     AllResult out;

@@ -23,6 +23,7 @@ Material material_at(const ModelShape& shape, const std::vector<double>& x) {
     m.albedo = shape.albedo;
     m.specular = shape.specular;
     m.children = shape.children;
+    for (const auto& t : info.tables) m.tables[t.name] = t.def;   // a table model: its default tables, held
     for (std::size_t j = 0; j < x.size(); ++j) {
         const ParamSpec& p = info.params[j];
         if (!std::isfinite(x[j]) || x[j] < p.lo || x[j] > p.hi || (p.integer && x[j] != std::floor(x[j]))) {

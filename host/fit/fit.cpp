@@ -593,6 +593,9 @@ ModelShape shape_for(const std::string& model, const Material& target, double sp
         *note = "'" + info.name + "' blends " + std::to_string(info.children) +
                 " child materials; fitted with white Lambert children (a scene's children are its own), so it "
                 "is Lambert times its blend";
+    if (has_tables(info) && note)
+        *note = "'" + info.name + "' reads tables (" + info.tables.front().name +
+                ", ...): fitted with its default tables held, since a fit varies no table";
     return s;
 }
 

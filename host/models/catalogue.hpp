@@ -54,6 +54,25 @@ struct ParamSpec {
     bool integer = false;   // must be a whole number (band counts)
 };
 
+// A table-valued parameter (the empirical family's tables over phase). Every table of a model has the same length,
+// from 2 to max_length entries, each finite and in [lo, hi]; the model's `knots` table is strictly increasing.
+// `isis` is ISIS's keyword for it, accepted as a name too (resolve_material renames it).
+struct TableSpec {
+    std::string name;        // "phase_list"
+    std::string isis;        // "PhaseList"
+    std::vector<double> def;
+    double lo = 0.0, hi = 1.0;
+    std::string doc;
+    bool knots = false;      // the abscissae (phases) of the other tables
+    std::size_t max_length = 2;
+    // For a table over the knots: its natural cubic spline (host/core/spline.hpp), continued beyond the table,
+    // must stay in [curve_lo, curve_hi] over every phase 0..180 (so that no geometry gives a runaway value).
+    double curve_lo = 0.0, curve_hi = 0.0;
+};
+
+// A table model's buffer (kernels/shade.cl's `tab` argument) from its resolved material.
+using TablePackFn = std::function<std::vector<float>(const Material& resolved)>;
+
 // One asserted bound of a model's kernel against its reference: tests/test_precision.cpp measures every model in
 // both precision modes and asserts these (docs/precision.md lists them). Relative error |k - r| / |r| over the
 // well-conditioned values, max over the probes (defaults and range ends). probe "*" is the model's own row (every
@@ -73,6 +92,8 @@ struct ModelInfo {
     std::string header;    // kernel file, relative to kernels/: "models/minnaert.cl"
     std::string eval;      // kernel function: float3 f(float3 N, float3 L, float3 V, float3 P, consts*)
     std::vector<ParamSpec> params;
+    std::vector<TableSpec> tables;   // table-valued parameters (most models: none)
+    TablePackFn pack_table;          // set iff `tables` is not empty; the eval then takes `tab` (kernels/shade.cl)
     int children = 0;      // number of child materials it blends (gradient: 2)
     PackFn pack;           // its constants (none: the model reads only albedo and specular)
     bool reciprocal = false;         // f_r(L, V) == f_r(V, L) (value / NoL symmetric) at EVERY parameter value in range
@@ -113,6 +134,13 @@ std::vector<double> ordered_params(const ModelInfo& info, const Material& m);
 
 // Packs albedo, specular and the model's constants. Gradient-like models get children after themselves.
 std::vector<ModelConsts> pack_material(const Material& resolved);
+
+// The material's table buffer (kernels/shade.cl's `tab`): its model's pack_table, or one 0 for a model without
+// tables (an OpenCL buffer cannot be empty; it is never read).
+std::vector<float> pack_table(const Material& resolved);
+
+// True when the model reads a table (its eval takes `tab`).
+inline bool has_tables(const ModelInfo& info) { return !info.tables.empty(); }
 
 
 }  // namespace shadelab

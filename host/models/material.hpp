@@ -12,6 +12,8 @@ namespace shadelab {
 struct Material {
     std::string model = "lambert";
     std::map<std::string, double> params;   // by name; resolve_material() fills defaults and checks ranges
+    // table-valued parameters by name (the empirical family's phase_list, k_list, ...), checked and filled the same
+    std::map<std::string, std::vector<double>> tables;
     glm::dvec3 albedo{0.8, 0.8, 0.8};       // diffuse colour, linear
     glm::dvec3 specular{1.0, 1.0, 1.0};     // specular colour, linear
     std::vector<Material> children;         // sub-models (gradient: [A, B])

@@ -152,37 +152,28 @@ cl::Buffer to_device(Runtime& rt, const std::vector<float>& v) {
 
 }  // namespace
 
-// ---- the natural spline -----------------------------------------------------------------------------------
-
-NaturalSpline::NaturalSpline(std::vector<double> x, std::vector<double> y) : x_(std::move(x)), y_(std::move(y)) {
-    const std::size_t n = x_.size();
-    if (n < 2 || y_.size() != n) throw Error("internal: a spline needs two or more (x, y) pairs");
-    // Second derivatives M_k of the natural spline: M_0 = M_{n-1} = 0 and, for 0 < k < n-1,
-    //   h_{k-1} M_{k-1} + 2 (h_{k-1} + h_k) M_k + h_k M_{k+1} = 6 (d_k - d_{k-1}),  d_k = (y_{k+1} - y_k) / h_k,
-    // solved by the tridiagonal (Thomas) algorithm.
-    y2_.assign(n, 0.0);
-    if (n < 3) return;
-    std::vector<double> c(n, 0.0), r(n, 0.0);
-    for (std::size_t k = 1; k + 1 < n; ++k) {
-        const double h0 = x_[k] - x_[k - 1], h1 = x_[k + 1] - x_[k];
-        const double rhs = 6.0 * ((y_[k + 1] - y_[k]) / h1 - (y_[k] - y_[k - 1]) / h0);
-        const double diag = 2.0 * (h0 + h1) - h0 * c[k - 1];
-        c[k] = h1 / diag;
-        r[k] = (rhs - h0 * r[k - 1]) / diag;
-    }
-    for (std::size_t k = n - 2; k >= 1; --k) y2_[k] = r[k] - c[k] * y2_[k + 1];
-}
-
-double NaturalSpline::operator()(double x) const {
-    // The interval [x_k, x_{k+1}] holding x; the first or last interval beyond the ends (its cubic continued).
-    const std::size_t n = x_.size();
-    std::size_t k = std::size_t(std::upper_bound(x_.begin(), x_.end(), x) - x_.begin());
-    k = std::clamp<std::size_t>(k, 1, n - 1) - 1;
-    const double h = x_[k + 1] - x_[k], a = (x_[k + 1] - x) / h, b = (x - x_[k]) / h;
-    return a * y_[k] + b * y_[k + 1] + ((a * a * a - a) * y2_[k] + (b * b * b - b) * y2_[k + 1]) * h * h / 6.0;
-}
-
 // ---- reading ---------------------------------------------------------------------------------------------
+
+namespace {
+
+// The empirical law's tables (law.empirical set), its splines and its catalogue material (the empirical family's
+// model with the tables under their catalogue names: what the double reference evaluates).
+void set_empirical_tables(Law& law, const std::vector<double>& phases, const std::vector<double>& params,
+                          const std::vector<double>& bright) {
+    law.phases = phases;
+    law.params = params;
+    law.brightness = bright;
+    law.param_of_phase = NaturalSpline(phases, params);
+    law.brightness_of_phase = NaturalSpline(phases, bright);
+    law.material = Material{};
+    law.material.model = law.empirical == 1 ? "minnaert_empirical" : "lunar_lambert_empirical";
+    law.material.albedo = glm::dvec3(1.0);
+    law.material.tables = {{"phase_list", phases},
+                           {law.empirical == 1 ? "k_list" : "l_list", params},
+                           {"phase_curve_list", bright}};
+}
+
+}  // namespace
 
 const std::vector<std::string>& isis_model_names() {
     static const std::vector<std::string> names = [] {
@@ -204,6 +195,40 @@ std::string Law::describe() const {
     s << material.model;
     for (const auto& [k, v] : material.params) s << " " << k << "=" << v;
     return s.str();
+}
+
+// The tables of an empirical law's Algorithm group (PhaseList, KList or LList, PhaseCurveList), checked.
+static void read_empirical_tables(Law& law, const pvl::Block& alg, const std::string& isis, const std::string& file) {
+    law.empirical = pvl::iequals(isis, "MinnaertEmpirical") ? 1 : 2;
+    const char* pkey = law.empirical == 1 ? "KList" : "LList";
+    auto table = [&](const char* key) {
+        const pvl::Keyword* kw = alg.keyword(key);
+        if (!kw)
+            throw Error(at(file, alg.line) + isis + " needs keyword " + key +
+                        " (PhaseList, " + pkey + " and PhaseCurveList, one entry per phase angle)");
+        return std::make_pair(kw, parse_table(*kw, file));
+    };
+    const auto [kp, phases] = table("PhaseList");
+    const auto [kk, params] = table(pkey);
+    const auto [kb, bright] = table("PhaseCurveList");
+    if (phases.size() < 3)
+        throw Error(at(file, kp->line) + "PhaseList has " + std::to_string(phases.size()) +
+                    " entries: ISIS's spline needs at least 3");
+    for (std::size_t j = 0; j < phases.size(); ++j) {
+        if (phases[j] < 0.0 || phases[j] > 180.0)
+            throw Error(at(file, kp->line) + "PhaseList entry " + std::to_string(j + 1) + " = " + num(phases[j]) +
+                        " is out of range: allowed 0 <= phase <= 180 degrees");
+        if (j > 0 && !(phases[j] > phases[j - 1]))
+            throw Error(at(file, kp->line) + "PhaseList is not increasing: entry " + std::to_string(j + 1) + " = " +
+                        num(phases[j]) + " follows " + num(phases[j - 1]) + " (phases must be strictly increasing)");
+    }
+    if (params.size() != phases.size())
+        throw Error(at(file, kk->line) + std::string(pkey) + " has " + std::to_string(params.size()) +
+                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
+    if (bright.size() != phases.size())
+        throw Error(at(file, kb->line) + "PhaseCurveList has " + std::to_string(bright.size()) +
+                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
+    set_empirical_tables(law, phases, params, bright);
 }
 
 Law law_from_pvl(const pvl::Block& root, const std::string& file) {
@@ -277,40 +302,7 @@ Law law_from_pvl(const pvl::Block& root, const std::string& file) {
     }
 
     // The empirical laws: three tables over phase, no defaults (ISIS refuses a file without them).
-    law.empirical = pvl::iequals(spec->isis, "MinnaertEmpirical") ? 1 : 2;
-    const char* pkey = law.empirical == 1 ? "KList" : "LList";
-    auto table = [&](const char* key) {
-        const pvl::Keyword* kw = alg->keyword(key);
-        if (!kw)
-            throw Error(at(file, alg->line) + spec->isis + " needs keyword " + key +
-                        " (PhaseList, " + pkey + " and PhaseCurveList, one entry per phase angle)");
-        return std::make_pair(kw, parse_table(*kw, file));
-    };
-    const auto [kp, phases] = table("PhaseList");
-    const auto [kk, params] = table(pkey);
-    const auto [kb, bright] = table("PhaseCurveList");
-    if (phases.size() < 3)
-        throw Error(at(file, kp->line) + "PhaseList has " + std::to_string(phases.size()) +
-                    " entries: ISIS's spline needs at least 3");
-    for (std::size_t j = 0; j < phases.size(); ++j) {
-        if (phases[j] < 0.0 || phases[j] > 180.0)
-            throw Error(at(file, kp->line) + "PhaseList entry " + std::to_string(j + 1) + " = " + num(phases[j]) +
-                        " is out of range: allowed 0 <= phase <= 180 degrees");
-        if (j > 0 && !(phases[j] > phases[j - 1]))
-            throw Error(at(file, kp->line) + "PhaseList is not increasing: entry " + std::to_string(j + 1) + " = " +
-                        num(phases[j]) + " follows " + num(phases[j - 1]) + " (phases must be strictly increasing)");
-    }
-    if (params.size() != phases.size())
-        throw Error(at(file, kk->line) + std::string(pkey) + " has " + std::to_string(params.size()) +
-                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
-    if (bright.size() != phases.size())
-        throw Error(at(file, kb->line) + "PhaseCurveList has " + std::to_string(bright.size()) +
-                    " entries but PhaseList has " + std::to_string(phases.size()) + ": one per phase angle");
-    law.phases = phases;
-    law.params = params;
-    law.brightness = bright;
-    law.param_of_phase = NaturalSpline(phases, params);
-    law.brightness_of_phase = NaturalSpline(phases, bright);
+    read_empirical_tables(law, *alg, spec->isis, file);
     return law;
 }
 
@@ -324,13 +316,22 @@ Law standard_conditions(const Law& law) {
     return s;
 }
 
-Law law_from_model(const std::string& model, const std::map<std::string, double>& params) {
+Law law_from_model(const std::string& model, const std::map<std::string, double>& params,
+                   const std::map<std::string, std::vector<double>>& tables) {
     Law law;
     Material m;
     m.model = model;
     m.params = params;
+    m.tables = tables;
     m.albedo = glm::dvec3(1.0);
     law.material = resolve_material(m);
+    // The empirical family's catalogue models take ISIS's path (the splines in double per row, eval_empirical).
+    if (model == "minnaert_empirical" || model == "lunar_lambert_empirical") {
+        const Material r = law.material;
+        law.empirical = model == "minnaert_empirical" ? 1 : 2;
+        set_empirical_tables(law, r.tables.at("phase_list"), r.tables.at(law.empirical == 1 ? "k_list" : "l_list"),
+                             r.tables.at("phase_curve_list"));
+    }
     return law;
 }
 
@@ -372,7 +373,8 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
         p.mu[j] = float(cosd(g.emission));
         if (law.empirical) {
             p.sin_i[j] = float(law.param_of_phase(g.phase));
-            p.sin_e[j] = float(law.brightness_of_phase(g.phase));
+            // B(g) held at 0 where the continued spline falls below it, as the catalogue model (docs/photometry.md)
+            p.sin_e[j] = float(std::max(law.brightness_of_phase(g.phase), 0.0));
             continue;
         }
         const double si = sind(g.incidence), se = sind(g.emission);
@@ -451,15 +453,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
 double evaluate_reference(const Law& law, const Geometry& g) {
     check_geometry(g, "");
     const ref::PhotometricAngles a = ref::angles_from_degrees(g.phase, g.incidence, g.emission);
-    if (law.empirical) {
-        if (!(a.mu0 > 0.0 && a.mu > 0.0)) return 0.0;
-        const double p = law.param_of_phase(g.phase), B = law.brightness_of_phase(g.phase);
-        if (law.empirical == 2) return B * a.mu0 * ((1.0 - p) + 2.0 * p / (a.mu0 + a.mu));
-        // Minnaert with the 1941-law guard of the catalogue (below 1e-3 in either cosine, K < 1)
-        const double eps = p < 1.0 ? 1e-3 : 0.0;
-        auto cp = [&](double x) { return x >= eps ? std::pow(x, p - 1.0) : std::pow(eps, p - 1.0) * x / eps; };
-        return B * a.mu0 * cp(a.mu0) * cp(a.mu);
-    }
+    // the empirical laws through their catalogue model's reference (host/reference/empirical_ref.cpp)
     if (ref::is_planetary_model(law.material.model)) return ref::planetary_value(law.material, a);
     // A model defined on vectors: N = z, L in the xz plane, V at the azimuth psi.
     const glm::dvec3 N{0, 0, 1}, L{a.sin_i, 0.0, a.mu0};

@@ -18,32 +18,21 @@
 #include <vector>
 
 #include "cl/runtime.hpp"
+#include "core/spline.hpp"
 #include "models/material.hpp"
 #include "photometry/pvl.hpp"
 #include "shade/shader.hpp"
 
 namespace shadelab::photometry {
 
-// ISIS's interpolation of its empirical tables (NumericalApproximation CubicClamped with both end derivatives
-// 1e30, which is Numerical Recipes' signal for a natural end): the natural cubic spline through the points
-// (second derivative 0 at both ends). Beyond the table the end interval's cubic is continued (ISIS evaluates
-// with its Extrapolate option). x strictly increasing, at least 2 points.
-class NaturalSpline {
-public:
-    NaturalSpline() = default;
-    NaturalSpline(std::vector<double> x, std::vector<double> y);
-    double operator()(double x) const;
-    bool empty() const { return x_.empty(); }
-
-private:
-    std::vector<double> x_, y_, y2_;
-};
+// ISIS's interpolation of the empirical tables: the natural cubic spline of host/core/spline.hpp.
+using shadelab::NaturalSpline;
 
 // A photometric law as a PVL file or the command line describes it.
 struct Law {
     std::string isis_name;      // "HapkeHen", or "" for a catalogue model given by name
     std::string source;         // the PVL file, for messages
-    Material material;          // the catalogue model with albedo 1 (not used by the empirical laws)
+    Material material;          // the catalogue model with albedo 1 (the empirical laws: their catalogue model and tables)
     int empirical = 0;          // 0: a catalogue model; 1: MinnaertEmpirical; 2: LunarLambertEmpirical
     std::vector<double> phases, params, brightness;   // the empirical tables
     NaturalSpline param_of_phase, brightness_of_phase;
@@ -65,7 +54,9 @@ Law law_from_pvl_file(const std::string& path);
 // set to 0, as ISIS's SetStandardConditions does when it evaluates the reference value of a normalisation.
 Law standard_conditions(const Law& law);
 // A catalogue model by shadelab name with name=value parameters (--model hapke_hen -p wh=0.52).
-Law law_from_model(const std::string& model, const std::map<std::string, double>& params);
+// Tables (the empirical family's phase_list, k_list, ...) by name; its models then take ISIS's empirical path.
+Law law_from_model(const std::string& model, const std::map<std::string, double>& params,
+                   const std::map<std::string, std::vector<double>>& tables = {});
 
 struct Geometry {
     double phase = 0.0, incidence = 0.0, emission = 0.0;   // degrees

@@ -153,7 +153,7 @@ void prebuild_search(Runtime& rt, const PlanInput& in, unsigned threads) {
     const bool ranked = std::any_of(in.items.begin(), in.items.end(),
                                     [](const PlanItem& it) { return it.material.children.empty(); });
     for (const auto& info : model_catalogue())   // only a material without children is ranked and fitted
-        if (ranked && info.children == 0) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise));
+        if (ranked && info.children == 0 && !has_tables(info)) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise));
     for (const auto& it : in.items) programs.push_back(shade_program(it.material, in.lights, Precision::Precise));
     prebuild(rt, programs, threads);
 }
@@ -235,8 +235,9 @@ std::vector<std::pair<double, std::string>> faster_models(Search& s, const std::
     const auto phase = clock_type::now();
     const double own = ranking_speed(s.rt, model);
     std::vector<std::pair<double, std::string>> cands;
+    // not a table model (the empirical family): a fit varies no table, so its default tables would stand in
     for (const auto& info : model_catalogue())
-        if (info.children == 0 && info.name != model && ranking_speed(s.rt, info.name) >= 1.1 * own)
+        if (info.children == 0 && !has_tables(info) && info.name != model && ranking_speed(s.rt, info.name) >= 1.1 * own)
             cands.push_back({ranking_speed(s.rt, info.name), info.name});
     std::sort(cands.rbegin(), cands.rend());
     s.plan.rank_ms += ms_since(phase);

@@ -205,9 +205,18 @@ public:
         if (v.contains("params")) {
             const std::string f = Parser::join(field, "params");
             const json& ps = v["params"];
-            if (!ps.is_object()) p_.fail(f, "expected an object of name: number, got " + type_of(ps));
-            for (auto it = ps.begin(); it != ps.end(); ++it)
-                m.params[it.key()] = p_.number(it.value(), Parser::join(f, it.key()), -1e30, 1e30);
+            if (!ps.is_object()) p_.fail(f, "expected an object of name: number (or name: [numbers]), got " + type_of(ps));
+            for (auto it = ps.begin(); it != ps.end(); ++it) {
+                const std::string fk = Parser::join(f, it.key());
+                if (!it.value().is_array()) {
+                    m.params[it.key()] = p_.number(it.value(), fk, -1e30, 1e30);
+                    continue;
+                }
+                // a table-valued parameter (the empirical family's phase_list, k_list, ...)
+                std::vector<double>& t = m.tables[it.key()];
+                for (std::size_t j = 0; j < it.value().size(); ++j)
+                    t.push_back(p_.number(it.value()[j], Parser::index(fk, j), -1e30, 1e30));
+            }
         }
         if (v.contains("albedo")) m.albedo = p_.vec3(v["albedo"], Parser::join(field, "albedo"), 0.0, 1e6);
         if (v.contains("specular")) m.specular = p_.vec3(v["specular"], Parser::join(field, "specular"), 0.0, 1e6);

@@ -46,10 +46,64 @@ std::vector<DeviceLight> pack_lights(const std::vector<Light>& lights) {
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
 
+// The material's table buffer (kernels/shade.cl's `tab`, the last argument of every kernel there): one float,
+// never read, for a model without tables.
+cl::Buffer table_buffer(cl::Context& ctx, const Material& resolved) {
+    std::vector<float> tab = pack_table(resolved);
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, tab.size() * sizeof(float), tab.data());
+}
+
+// The view as the kernels take it: an orthographic direction (w = 0) made unit; every component finite.
+glm::dvec4 checked_view(const glm::dvec4& v) {
+    for (int c = 0; c < 4; ++c)
+        if (!std::isfinite(v[c])) throw Error("view position/direction is not finite");
+    if (v.w != 0.0) return v;
+    const double len = glm::length(glm::dvec3(v));
+    if (!(len > 0)) throw Error("orthographic view direction is zero: give a direction to the viewer");
+    return glm::dvec4(glm::dvec3(v) / len, 0.0);
+}
+
+// Planes of `padded` floats -> planes of n (the launch's padding dropped).
+void unpad_planes(std::vector<float>& out, std::size_t n, std::size_t padded) {
+    if (padded == n) return;
+    std::copy(out.begin() + padded, out.begin() + padded + n, out.begin() + n);
+    std::copy(out.begin() + 2 * padded, out.begin() + 2 * padded + n, out.begin() + 2 * n);
+    out.resize(3 * n);
+}
+
 double ms_between(const cl::Event& e) {
     const auto t0 = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto t1 = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
     return double(t1 - t0) * 1e-6;
+}
+
+// A read-only buffer of `padded` floats holding v's n. The n floats go straight into the buffer (no padded host
+// copy); the padding is zero-filled and shades (0, 0, 0) fragments, never read back.
+cl::Buffer padded_input(cl::Context& ctx, cl::CommandQueue& q, const std::vector<float>& v, std::size_t n,
+                        std::size_t padded) {
+    const std::size_t bytes = padded * sizeof(float);
+    if (padded == n)
+        return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+    cl::Buffer b(ctx, CL_MEM_READ_ONLY, bytes);
+    q.enqueueWriteBuffer(b, CL_TRUE, 0, n * sizeof(float), v.data());
+    q.enqueueFillBuffer(b, 0.0f, n * sizeof(float), bytes - n * sizeof(float));
+    return b;
+}
+
+// The knot count a table model's program is built for: the material's, rounded up to 4, 8, 16 or the most the
+// family allows (the kernel scans that many segment starts, so a short table does not pay for the longest; one
+// program per bucket).
+std::size_t table_knots_bucket(const ModelInfo& info, const Material& m) {
+    std::size_t knots = 2, most = 2;
+    for (const auto& t : info.tables)
+        if (t.knots) {
+            auto it = m.tables.find(t.name);
+            knots = it == m.tables.end() ? t.def.size() : it->second.size();
+            most = t.max_length;
+        }
+    for (std::size_t b : {std::size_t(4), std::size_t(8), std::size_t(16)})
+        if (knots <= b && b < most) return b;
+    return most;
 }
 
 }  // namespace
@@ -71,6 +125,10 @@ std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, 
     std::vector<std::string> d{"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
                                "SL_NUM_LIGHTS=" + std::to_string(num_lights)};
     if (precision == Precision::Fast) d.push_back("SL_FAST=1");
+    if (has_tables(info)) {   // its eval takes the table buffer (kernels/shade.cl), scanned up to SL_TABLE_KNOTS
+        d.push_back("SL_TABLE=1");
+        d.push_back("SL_TABLE_KNOTS=" + std::to_string(table_knots_bucket(info, m)));
+    }
     for (std::size_t c = 0; c < m.children.size(); ++c) {
         const ModelInfo& ci = find_model(m.children[c].model);
         d.push_back("SL_CHILD" + std::to_string(c) + "_HEADER=<" + ci.header + ">");
@@ -96,14 +154,7 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     if (n > 0xffffffffu) throw Error("fragment buffer too large for one launch (" + std::to_string(n) + ")");
     const auto consts = pack_material(mat);
     const auto lights = pack_lights(setup.lights);
-    for (int c = 0; c < 4; ++c)
-        if (!std::isfinite(setup.view[c])) throw Error("view position/direction is not finite");
-    glm::dvec4 view = setup.view;
-    if (view.w == 0.0) {
-        const double len = glm::length(glm::dvec3(view));
-        if (!(len > 0)) throw Error("orthographic view direction is zero: give a direction to the viewer");
-        view = glm::dvec4(glm::dvec3(view) / len, 0.0);
-    }
+    const glm::dvec4 view = checked_view(setup.view);
 
     using clock = std::chrono::steady_clock;
     // Every buffer is padded to the launch size (n rounded up to the work-group size): the kernel has no bounds
@@ -120,16 +171,7 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
         const std::size_t bytes = padded * sizeof(float);
-        auto ro = [&](const std::vector<float>& v) {
-            if (padded == n)
-                return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
-            // The n floats go straight into the buffer (no padded host copy); the padding is zero-filled and
-            // shades (0, 0, 0) fragments, never read back.
-            cl::Buffer b(ctx, CL_MEM_READ_ONLY, bytes);
-            q.enqueueWriteBuffer(b, CL_TRUE, 0, n * sizeof(float), v.data());
-            q.enqueueFillBuffer(b, 0.0f, n * sizeof(float), bytes - n * sizeof(float));
-            return b;
-        };
+        auto ro = [&](const std::vector<float>& v) { return padded_input(ctx, q, v, n, padded); };
         cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
                    bnz = ro(fb.nz);
         // The output lives in `out`, whose pages the host has already touched (zero-filled): on a CPU device
@@ -140,6 +182,7 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
                            const_cast<ModelConsts*>(consts.data()));
         cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(DeviceLight),
                            const_cast<DeviceLight*>(lights.data()));
+        cl::Buffer btab = table_buffer(ctx, mat);
         const auto t2 = clock::now();
         k.setArg(0, bpx); k.setArg(1, bpy); k.setArg(2, bpz);
         k.setArg(3, bnx); k.setArg(4, bny); k.setArg(5, bnz);
@@ -150,6 +193,7 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         k.setArg(9, bconsts);
         k.setArg(10, blights);
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
+        k.setArg(12, btab);
         cl::Event ev;
         if (local == kLocalAuto)
             q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NullRange, nullptr, &ev);
@@ -162,11 +206,7 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         if (mapped != out.data()) std::memcpy(out.data(), mapped, 3 * bytes);
         q.enqueueUnmapMemObject(bout, mapped);
         q.finish();
-        if (padded != n) {   // planes of `padded` floats -> planes of n
-            std::copy(out.begin() + padded, out.begin() + padded + n, out.begin() + n);
-            std::copy(out.begin() + 2 * padded, out.begin() + 2 * padded + n, out.begin() + 2 * n);
-            out.resize(3 * n);
-        }
+        unpad_planes(out, n, padded);
         const auto t4 = clock::now();
         if (timing) {
             auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
@@ -207,6 +247,8 @@ std::vector<float> Shader::eval_directions(const Material& material, const std::
         k.setArg(4, bout);
         k.setArg(5, cl_uint(n));
         k.setArg(6, bconsts);
+        cl::Buffer btab = table_buffer(ctx, mat);
+        k.setArg(7, btab);
         rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)),
                                          cl::NDRange(kLocalSize));
         rt_.queue().enqueueReadBuffer(bout, CL_TRUE, 0, bytes, out.data());
@@ -259,6 +301,8 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
         cl::Program prog = rt_.build("shade.cl", defines, options_for(precision));
         cl::Kernel k(prog, "eval_batch");
         auto& ctx = rt_.context();
+        // the shape's table: every set of a batch shares it (a table is not a fitted parameter)
+        cl::Buffer btab = table_buffer(ctx, resolve_material(shape));
         auto& q = rt_.queue();
         // Sets per launch: what fits the device's __constant buffer and about 64 MB of output.
         const std::size_t const_bytes = rt_.device().getInfo<CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE>();
@@ -281,6 +325,7 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
             k.setArg(2, cl_uint(d.stride));
             k.setArg(3, cl_uint(per_set));
             k.setArg(4, bconsts);
+            k.setArg(5, btab);
             cl::Event ev;
             q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(d.stride, ns), cl::NDRange(kLocalSize, 1), nullptr, &ev);
             if (d.stride == d.n && np == 3) {   // the layouts agree: straight into `out`
