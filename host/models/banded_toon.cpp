@@ -6,19 +6,14 @@
 #include "core/error.hpp"
 #include "consts/banded_toon.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
 namespace {
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.family = "banded_toon";
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/banded_toon.cl";
-    m.eval = eval;
+    ModelInfo m = model_info("models/banded_toon.cl", name, summary, source, eval);
     m.reciprocal = false;   // value / NoL is a function of NoL alone (plus, for toon, a quantised highlight)
     return m;
 }

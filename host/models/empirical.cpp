@@ -9,6 +9,7 @@
 #include "consts/empirical.h"
 #include "core/spline.hpp"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
@@ -57,12 +58,9 @@ TableSpec curve(const std::vector<double>& def) {
 }
 
 ModelInfo base(const char* name, const char* summary, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.summary = summary;
-    m.header = "models/empirical.cl";
-    m.eval = eval;
-    // value / NoL = B(g) (mu0 mu)^(K(g)-1) or B(g) ((1 - L(g)) + 2 L(g) / (mu0 + mu)): symmetric, since g is
+    ModelInfo m = model_info("models/empirical.cl", name, summary, "", eval);
+    // value / NoL = B(g) (mu0 mu)^(K(g)-1) or B(g) ((1 - L(g)) + 2 L(g) / (mu0 + mu)): symmetric in L and V,
+    // since g, mu0 mu and mu0 + mu are
     m.reciprocal = true;
     m.energy_conserving = false;
     return m;

@@ -5,19 +5,14 @@
 // lower-case forms of ISIS's keywords (L -> l); host/photometry/isis_pvl.cpp maps ISIS's PVL files onto them.
 #include "consts/lunar_lambert.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
 namespace {
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/lunar_lambert.cl";
-    m.eval = eval;
-    return m;
+    return model_info("models/lunar_lambert.cl", name, summary, source, eval);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // the shader forms taken from it. Constants are packed once per material here; the kernels only read them.
 #include "consts/minnaert.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
@@ -22,14 +23,7 @@ MinnaertConsts limb_guard_consts(const std::vector<double>& p) {
 }
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.family = "minnaert";
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/minnaert.cl";
-    m.eval = eval;
-    return m;
+    return model_info("models/minnaert.cl", name, summary, source, eval);
 }
 
 ModelInfo minnaert_1941_model() {

@@ -5,20 +5,14 @@
 
 #include "consts/phong.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
 namespace {
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.family = "phong";
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/phong.cl";
-    m.eval = eval;
-    return m;
+    return model_info("models/phong.cl", name, summary, source, eval);
 }
 
 const char* kPhong = "Phong (1975) Illumination for computer generated pictures, CACM 18(6); seed 001";

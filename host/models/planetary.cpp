@@ -7,6 +7,7 @@
 
 #include "consts/planetary.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
@@ -15,14 +16,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.family = "planetary";
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/planetary.cl";
-    m.eval = eval;
-    return m;
+    return model_info("models/planetary.cl", name, summary, source, eval);
 }
 
 // McEwen's lunar L(g) cubic (McEwen 1996; ISIS's LunarLambertMcEwen hard-codes these three).

@@ -2,19 +2,14 @@
 // squared diffuse wrap and Filament's energy-conserving wrap. Constants are packed once per material here.
 #include "consts/wrap.h"
 #include "models/catalogue.hpp"
+#include "models/model_info.hpp"
 
 namespace shadelab {
 
 namespace {
 
 ModelInfo base(const char* name, const char* summary, const char* source, const char* eval) {
-    ModelInfo m;
-    m.name = name;
-    m.family = "wrap";
-    m.summary = summary;
-    m.source = source;
-    m.header = "models/wrap.cl";
-    m.eval = eval;
+    ModelInfo m = model_info("models/wrap.cl", name, summary, source, eval);
     // None of the wrap terms is reciprocal: value / NoL = g(NoL) / NoL is not symmetric in L and V.
     m.reciprocal = false;
     return m;
