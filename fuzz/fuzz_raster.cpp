@@ -4,7 +4,6 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/error.hpp"
 #include "fuzz_common.hpp"
 #include "image/image.hpp"
 
@@ -13,15 +12,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     static const char* const kName[] = {"raster.cub", "raster.lbl", "raster.xml", "raster.img", "raster.tif"};
     static const char* const kBand[] = {"", "", "", "", "[1]"};
     const int f = data[0] % 5;
-    const std::string path = shadelab::fuzz::scratch_path(kName[f]);
-    shadelab::fuzz::write_file(path, data + 1, size - 1);
-    try {
-        const shadelab::Image img = shadelab::read_image(path + kBand[f]);
-        if (img.pixels.size() != std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.channels))
-            __builtin_trap();
-        for (const float v : img.pixels)
-            if (!(v == v) || v - v != 0.0f) __builtin_trap();   // no NaN or Inf reaches the caller
-    } catch (const shadelab::Error&) {
-    }
+    const auto img = shadelab::fuzz::load_input(data + 1, size - 1, kName[f], [f](const std::string& path) {
+        return shadelab::read_image(path + kBand[f]);
+    });
+    if (!img) return 0;
+    if (img->pixels.size() != std::size_t(img->width) * std::size_t(img->height) * std::size_t(img->channels))
+        __builtin_trap();
+    for (const float v : img->pixels)
+        if (!(v == v) || v - v != 0.0f) __builtin_trap();   // no NaN or Inf reaches the caller
     return 0;
 }
