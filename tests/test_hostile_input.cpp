@@ -391,6 +391,26 @@ TEST_CASE("a GeoTIFF band of 30000x30000 in a 28 KB file is refused against the 
     set_memory_limit(0);
 }
 
+TEST_CASE("a PDS3 SCALING_FACTOR that takes stored floats beyond float range masks those pixels, not Inf", "[hostile][image]") {
+    // Found by fuzz_raster: PC_REAL samples of 1e38 times SCALING_FACTOR 8.5 were handed on as Inf. The file (4x3,
+    // written byte by byte, OFFSET 1.0) holds 1, 2, 1e38, -1e38 / 3e38, 0.5, 4e37, 0 / 1, 1, 1, 1: four
+    // stored values would leave float range once scaled, 4e37 * 8.5 + 1 = 3.4e38 just stays in it.
+    const Image img = read_image(kHostile + "/pds3_scaling_beyond_float.lbl");
+    REQUIRE(img.width == 4);
+    REQUIRE(img.height == 3);
+    REQUIRE(img.channels == 2);
+    for (const float v : img.pixels) REQUIRE(std::isfinite(v));
+    const std::set<std::pair<int, int>> masked = {{2, 0}, {3, 0}, {0, 1}};
+    const float stored[3][4] = {{1.0f, 2.0f, 1e38f, -1e38f}, {3e38f, 0.5f, 4e37f, 0.0f}, {1.0f, 1.0f, 1.0f, 1.0f}};
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 4; ++x) {
+            INFO("pixel (" << x << ", " << y << ")");
+            const bool m = masked.count({x, y}) > 0;
+            CHECK(img.at(x, y, 1) == (m ? 0.0f : 1.0f));
+            if (!m) CHECK(img.at(x, y, 0) == float(double(stored[y][x]) * 8.5 + 1.0));
+        }
+}
+
 TEST_CASE("EXR channels of mixed stored types (half and float) read exactly, channel by channel", "[image]") {
     // Written by OpenImageIO with channelformats half, float, half, float: R = 0.25 + x/8, G = y/4 + 1e-4
     // (1e-4 is not a half: a float channel read as half would lose it), B = 0.75, A = 1.

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <mutex>
 
@@ -20,6 +21,8 @@ namespace fs = std::filesystem;
 namespace shadelab {
 
 namespace {
+
+constexpr double kFloatMax = double(std::numeric_limits<float>::max());
 
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -155,6 +158,9 @@ Image read_raster_band(const std::string& path) {
     // stored value -> physical value: PDS3 SCALING_FACTOR / OFFSET, PDS4 scaling_factor / value_offset, ISIS's
     // Multiplier / Base (GDAL gives 1 and 0 where the label has none); no-data is compared before, in stored units
     const double scale = rb->GetScale(), offset = rb->GetOffset();
+    if (!std::isfinite(scale) || !std::isfinite(offset))
+        throw Error("'" + path + "': the label's scaling factor / offset (" + std::to_string(scale) + ", " +
+                    std::to_string(offset) + ") is not a finite number: correct the label");
     Image img(w, h, 2);
     std::vector<double> row(static_cast<std::size_t>(w));
     for (int y = 0; y < h; ++y) {
@@ -163,8 +169,11 @@ Image read_raster_band(const std::string& path) {
                         " (is the file truncated?)");
         for (int x = 0; x < w; ++x) {
             const double v = row[std::size_t(x)];
-            const bool bad = !std::isfinite(v) || std::abs(v) > 3.0e38 || (has_nodata && v == nodata);
-            img.at(x, y, 0) = bad ? 0.0f : float(v * scale + offset);
+            // masked: no-data, a non-finite stored value, or a physical value a float cannot hold (a large
+            // SCALING_FACTOR times a large stored value would otherwise become Inf)
+            const double p = v * scale + offset;
+            const bool bad = !std::isfinite(v) || (has_nodata && v == nodata) || !(std::abs(p) <= kFloatMax);
+            img.at(x, y, 0) = bad ? 0.0f : float(p);
             img.at(x, y, 1) = bad ? 0.0f : 1.0f;
         }
     }
