@@ -107,6 +107,11 @@ TEST_CASE("mesh files that crashed or hung OpenMesh are refused with the file, t
         // 3 of 4 faces rendered without a word
         {"ply_truncated_body.ply", {"ends after 3 of the 4 'face' items", "truncated"}},
         {"off_truncated.off", {"ends after 2 of its 4 faces", "truncated"}},
+        // counts on the keyword's line, where OpenMesh 9 does not read them: with nothing after them it read
+        // counts from nowhere and asked for 12 GB (found by fuzz/fuzz_mesh); with vertices after them it took
+        // the first vertex for the counts and said "no triangles"
+        {"off_counts_on_keyword_line.off", {"line 1", "counts are on the OFF line", "put 'vertices faces edges' on the line after OFF"}},
+        {"off_counts_on_keyword_line_misread.off", {"line 1", "counts are on the OFF line"}},
         {"stl_truncated.stl", {"ends inside facet 4", "truncated"}},
         // 1e39 became Inf in OpenMesh's float parse and the load ended in "no triangles"
         {"ply_beyond_float.ply", {"line 13", "'1e39'", "beyond the range of a float"}},

@@ -429,9 +429,11 @@ void check_ply(std::string_view d, const Checker& c) {
 }
 
 // ---- OFF ---------------------------------------------------------------------------------------------
-// [ST][C][N]OFF, counts (nv nf ne, possibly on the keyword's line), nv vertex lines, nf face lines
-// "n i1 .. in [colour]". 4OFF/nOFF (other dimensions) and binary OFF are refused: OpenMesh's readers of
-// those are not worth the risk for formats no exporter writes.
+// [ST][C][N]OFF, counts (nv nf ne) on the next line, nv vertex lines, nf face lines "n i1 .. in [colour]".
+// 4OFF/nOFF (other dimensions) and binary OFF are refused: OpenMesh's readers of those are not worth the risk
+// for formats no exporter writes. Counts on the keyword's line are refused too: OpenMesh 9 skips that line
+// whole and reads its counts from the next one, so such a file came back as another mesh, as "no triangles"
+// or, with nothing after it, as counts read from nowhere (a 12 GB allocation; found by fuzz_mesh).
 void check_off(std::string_view d, const Checker& c) {
     Lines lines(d);
     std::string_view line;
@@ -446,7 +448,6 @@ void check_off(std::string_view d, const Checker& c) {
     };
     if (!next_data()) c.fail("the file holds only comments");
     const std::string_view kw = w[0];
-    std::size_t first = 0;   // index in w of the first count
     if (kw.size() >= 3 && kw.substr(kw.size() - 3) == "OFF") {
         std::string_view prefix = kw.substr(0, kw.size() - 3);
         if (prefix.substr(0, 2) == "ST") prefix.remove_prefix(2);
@@ -454,18 +455,18 @@ void check_off(std::string_view d, const Checker& c) {
         if (!prefix.empty() && prefix[0] == 'N') prefix.remove_prefix(1);
         if (!prefix.empty())
             c.fail_line(lines.number(), "OFF variant " + quoted(kw) + " is not read (OFF, COFF, NOFF, CNOFF, STOFF...)");
-        first = 1;
         if (w.size() > 1 && w[1] == "BINARY")
             c.fail_line(lines.number(), "binary OFF is not read", "convert it to ASCII OFF, PLY or OBJ");
+        if (w.size() > 1 && w[1][0] != '#')
+            c.fail_line(lines.number(), "the counts are on the " + std::string(kw) + " line, where OpenMesh does not read them",
+                        "put 'vertices faces edges' on the line after " + std::string(kw));
     } else {
         c.fail_line(lines.number(), "an OFF file starts with the keyword OFF (or COFF, NOFF, ...), not " + quoted(kw));
     }
-    if (w.size() <= first) {   // the counts are on a line of their own
-        if (!next_data()) c.fail("the file ends before its vertex and face counts");
-        first = 0;
-    }
+    // the counts are on a line of their own
+    if (!next_data()) c.fail("the file ends before its vertex and face counts");
     long long nv = -1, nf = -1;
-    if (w.size() < first + 2 || !integer(w[first], nv) || !integer(w[first + 1], nf) || nv < 0 || nf < 0)
+    if (w.size() < 2 || !integer(w[0], nv) || !integer(w[1], nf) || nv < 0 || nf < 0)
         c.fail_line(lines.number(), "expected the counts 'vertices faces edges', got " + quoted(line));
     for (long long i = 0; i < nv; ++i) {
         if (!next_data())
