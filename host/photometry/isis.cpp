@@ -349,7 +349,7 @@ void check_geometry(const Geometry& g, const std::string& where) {
 // ISIS continues an empirical table's natural spline beyond its last phase, where a steep table can run away
 // (K -> -60 makes mu^(K-1) overflow): a value the float kernel cannot hold is refused, naming the row, the
 // parameter the spline gives there and the table's range, never written as a number.
-static void check_empirical_finite(const Law& law, const std::vector<Geometry>& rows) {
+void check_empirical_finite(const Law& law, const std::vector<Geometry>& rows) {
     for (std::size_t r = 0; r < rows.size(); ++r) {
         const double v = evaluate_reference(law, rows[r]);
         if (std::isfinite(v) && std::fabs(v) <= double(std::numeric_limits<float>::max())) continue;

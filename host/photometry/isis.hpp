@@ -82,4 +82,9 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
 // The law at one geometry with the double-precision references (host/reference/).
 double evaluate_reference(const Law& law, const Geometry& g);
 
+// An empirical law (law.empirical != 0) at every row, in double: throws shadelab::Error naming the first row whose
+// value a float cannot hold (ISIS continues the tables' spline beyond their last phase, where it can run away).
+// Every evaluation of such a law runs it first, so such a row is refused, never written as a number.
+void check_empirical_finite(const Law& law, const std::vector<Geometry>& rows);
+
 }  // namespace shadelab::photometry
