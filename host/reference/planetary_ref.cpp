@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/error.hpp"
 #include "reference/reference.hpp"
@@ -188,28 +189,40 @@ double planetary_value(const Material& m, const PhotometricAngles& a) {
 }
 
 namespace {
-// The planetary family's laws at photometric angles (mu0, mu > 0: planetary_value checks).
-double planetary_law(const Material& m, const PhotometricAngles& a) {
-    if (m.model == "lunar_lambert_mcewen") return Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
-    if (m.model == "lunar_lambert_mcewen_ratio") {
-        // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-3 (kernel comment).
-        const double c30 = std::cos(30.0 * kDeg);
-        const double r30 = Pho_LunarLambert(c30, 1.0, mcewen_L(m, 30.0));
-        const double r = Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
-        return r > 0.0 ? r30 / std::max(r, 1e-3) : 0.0;
-    }
-    if (m.model == "hapke_2012") return Hapke2012_value(a, m);
-    if (m.model == "hapke_hen")
-        return Hapke_value(a, m, Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2")));
+// The planetary family's laws at photometric angles (mu0, mu > 0: planetary_value checks), one function per law,
+// so that an evaluation does not compare the model's name.
+double mcewen_law(const Material& m, const PhotometricAngles& a) {
+    return Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
+}
+double mcewen_ratio_law(const Material& m, const PhotometricAngles& a) {
+    // R30: the law at g = 30, i = 30, e = 0; 0 where r <= 0; r floored at 1e-3 (kernel comment).
+    const double c30 = std::cos(30.0 * kDeg);
+    const double r30 = Pho_LunarLambert(c30, 1.0, mcewen_L(m, 30.0));
+    const double r = Pho_LunarLambert(a.mu0, a.mu, mcewen_L(m, a.g_deg));
+    return r > 0.0 ? r30 / std::max(r, 1e-3) : 0.0;
+}
+double hapke_2012_law(const Material& m, const PhotometricAngles& a) { return Hapke2012_value(a, m); }
+double hapke_hen_law(const Material& m, const PhotometricAngles& a) {
+    return Hapke_value(a, m, Hapke_P_HG2(a.g_deg, m.params.at("hg1"), m.params.at("hg2")));
+}
+double hapke_leg_law(const Material& m, const PhotometricAngles& a) {
     return Hapke_value(a, m, Hapke_P_Legendre(a.g_deg, m.params.at("bh"), m.params.at("ch")));
 }
 }  // namespace
 
 void add_planetary_references(Table& t) {
-    for (const char* name : {"lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio", "hapke_hen", "hapke_leg", "hapke_2012"}) {
-        t.angles[name] = planetary_law;
-        t[name] = [](const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&, const Material& m) {
-            return m.albedo * planetary_value(m, angles_from_vectors(N, L, V));
+    using Law = double (*)(const Material&, const PhotometricAngles&);
+    const std::pair<const char*, Law> laws[] = {{"lunar_lambert_mcewen", mcewen_law},
+                                                {"lunar_lambert_mcewen_ratio", mcewen_ratio_law},
+                                                {"hapke_hen", hapke_hen_law},
+                                                {"hapke_leg", hapke_leg_law},
+                                                {"hapke_2012", hapke_2012_law}};
+    for (const auto& [name, law] : laws) {
+        t.angles[name] = law;
+        // planetary_value's rule (0 where unlit or unseen) with the law itself, not looked up by name per call
+        t[name] = [law = law](const dvec3& N, const dvec3& L, const dvec3& V, const dvec3&, const Material& m) {
+            const PhotometricAngles a = angles_from_vectors(N, L, V);
+            return m.albedo * (a.mu0 > 0.0 && a.mu > 0.0 ? law(m, a) : 0.0);
         };
     }
 }
