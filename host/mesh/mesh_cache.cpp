@@ -345,7 +345,9 @@ Mesh load_mesh(const std::string& path, MeshLoadReport* report, MeshCacheUse* ca
     use.hit = use.rejected = use.written = false;
     use.why.clear();
     const std::string dir = mesh_cache_dir(use.setting);
-    if (dir.empty()) return load_mesh_uncached(path, report);
+    std::error_code ec;
+    // A pipe or device cannot be read twice (once for the key, once by the loader): such paths skip the cache.
+    if (dir.empty() || !fs::is_regular_file(path, ec)) return load_mesh_uncached(path, report);
     const std::string ext = check_mesh_opens(path);   // the same first errors as the full load
     const FileStamp before = stamp_of(path);
     const std::string key = mesh_cache_key(path, ext);
