@@ -43,6 +43,12 @@ constexpr std::size_t kCounts = 10;   // u64 fields before the notes (encode_hea
 
 static_assert(sizeof(glm::dvec3) == 3 * sizeof(double) && sizeof(glm::u32vec3) == 3 * sizeof(std::uint32_t),
               "the entry stores positions, normals and triangles as they lie in memory");
+// A field added to Mesh or MeshLoadReport must be stored in the entry too (encode_head, decode_payload, with kFormat
+// bumped), or a hit would return it empty while the full load fills it: these fail to compile until it is.
+static_assert(sizeof(Mesh) == 3 * sizeof(std::vector<glm::dvec3>) + sizeof(std::string),
+              "Mesh changed: store the new field in the mesh cache entry");
+static_assert(sizeof(MeshLoadReport) == 7 * sizeof(std::size_t) + sizeof(std::vector<std::string>),   // 6 counts, 1 flag
+              "MeshLoadReport changed: store the new field in the mesh cache entry");
 
 std::string env(const char* name) {
     const char* v = std::getenv(name);
