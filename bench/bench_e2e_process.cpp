@@ -4,7 +4,8 @@
 //   builds:   the whole catalogue's programs (every model, precise and fast, one light) built and run once on a
 //             tiny fragment buffer, each case in a fresh process: PoCL's kernel cache cold or warm, shadelab's
 //             program-binary cache off, cold or warm;
-//   meshes:   OpenMesh's readers (load_mesh) on the bundled meshes, best of N, against a frame of the same mesh.
+//   meshes:   OpenMesh's readers (the full loader, cache off) on the bundled meshes against the mesh cache's miss
+//             (which stores the entry) and hit, best of N; --meshes-only runs this table alone.
 // A benchmark, not a test: --smoke runs a tiny size so the suite checks it still works.
 #include <sys/wait.h>
 #include <unistd.h>
@@ -26,7 +27,9 @@
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
 #include "image/image.hpp"
+#include "core/format.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/mesh_cache.hpp"
 #include "models/catalogue.hpp"
 #include "raster/camera.hpp"
 #include "raster/raster.hpp"
@@ -224,25 +227,50 @@ void bench_builds(const std::string& self, const fs::path& tmp, int max_models) 
     }
 }
 
-void bench_meshes(const std::vector<std::string>& meshes, int reps) {
-    std::printf("\n== mesh loading (OpenMesh readers + shadelab's validation), best of %d\n", reps);
+// One round per repetition, each mesh loaded four ways back to back (so the load's drift hits them alike): the
+// full loader (cache off), the key alone (SHA-256 of the file), a miss that stores the entry (cache emptied first)
+// and a hit. The hit must be the full loader's mesh, bit for bit, or the bench fails.
+void bench_meshes(const std::vector<std::string>& meshes, int reps, const fs::path& tmp) {
+    std::printf("\n== mesh loading: the full loader (OpenMesh's readers + shadelab's checks and repairs) against the mesh "
+                "cache, best of %d\n",
+                reps);
+    std::printf("%-24s %9s %11s %9s %11s %9s %9s %8s\n", "mesh", "triangles", "cache off", "key", "miss+store",
+                "cached", "ratio", "entry");
+    const fs::path cache = tmp / "meshes";
     for (const std::string& path : meshes) {
-        double best = 1e30;
-        std::size_t tris = 0;
+        double cold = 1e30, key = 1e30, miss = 1e30, hit = 1e30;
+        Mesh want;
         for (int r = 0; r < reps; ++r) {
-            const auto t0 = clock_type::now();
-            const Mesh m = load_mesh(path);
-            best = std::min(best, ms_since(t0));
-            tris = m.triangles.size();
+            auto t0 = clock_type::now();
+            want = load_mesh_uncached(path);
+            cold = std::min(cold, ms_since(t0));
+            t0 = clock_type::now();
+            const std::string k = mesh_cache_key(path, lower_ext(path));
+            key = std::min(key, ms_since(t0));
+            fs::remove_all(cache);
+            MeshCacheUse use;
+            use.setting = cache.string();
+            t0 = clock_type::now();
+            load_mesh(path, nullptr, &use);
+            miss = std::min(miss, ms_since(t0));
+            if (use.hit || !use.written) throw Error("mesh cache: the first load of '" + path + "' was not a miss that stored");
+            t0 = clock_type::now();
+            const Mesh got = load_mesh(path, nullptr, &use);
+            hit = std::min(hit, ms_since(t0));
+            if (!use.hit || got.positions != want.positions || got.normals != want.normals || got.triangles != want.triangles)
+                throw Error("mesh cache: the second load of '" + path + "' was not a hit equal to the full load");
         }
-        std::printf("%-28s %8zu triangles %9.1f ms\n", path.substr(path.find_last_of('/') + 1).c_str(), tris, best);
+        const double entry_mb = double(fs::file_size(mesh_cache_entry(cache.string(), mesh_cache_key(path, lower_ext(path))))) / 1e6;
+        std::printf("%-24s %9zu %9.1fms %7.1fms %9.1fms %7.1fms %8.1fx %6.1fMB\n",
+                    path.substr(path.find_last_of('/') + 1).c_str(), want.triangles.size(), cold, key, miss, hit,
+                    cold / hit, entry_mb);
     }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool smoke = false, child = false, no_planning = false;
+    bool smoke = false, child = false, no_planning = false, meshes_only = false;
     std::string child_plan_scene;
     std::vector<std::string> plan_scenes = {std::string(SHADELAB_SOURCE_DIR) + "/scenes/materials.json",
                                             std::string(SHADELAB_SOURCE_DIR) + "/scenes/minimal.json"};
@@ -261,6 +289,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(-1, 256));
     app.add_option("--plan-scenes", plan_scenes, "Scenes of the planning rows")->capture_default_str();
     app.add_flag("--no-planning", no_planning, "Skip the planning rows");
+    app.add_flag("--meshes-only", meshes_only, "Only the mesh-loading table");
     app.add_option("--child-plan", child_plan_scene, "(internal) plan this scene once and print the times");
     app.add_flag("--child-builds", child, "(internal) build the catalogue once and print the times");
     try {
@@ -281,13 +310,15 @@ int main(int argc, char** argv) {
         const fs::path tmp = fs::temp_directory_path() / ("shadelab-bench-process-" + std::to_string(::getpid()));
         fs::create_directories(tmp);
         std::printf("machine: %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
-        Runtime rt;
-        std::printf("OpenCL: %s\n", rt.device_description().c_str());
-        bench_writes(rt, load_mesh(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
-        bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
-        if (!smoke && !no_planning)
-            bench::bench_planning(run_capture, fs::canonical("/proc/self/exe").string(), tmp, plan_scenes);
-        bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps);
+        if (!meshes_only) {
+            Runtime rt;
+            std::printf("OpenCL: %s\n", rt.device_description().c_str());
+            bench_writes(rt, load_mesh_uncached(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
+            bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
+            if (!smoke && !no_planning)
+                bench::bench_planning(run_capture, fs::canonical("/proc/self/exe").string(), tmp, plan_scenes);
+        }
+        bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps, tmp);
         fs::remove_all(tmp);
         return 0;
     } catch (const std::exception& e) {

@@ -15,7 +15,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     shadelab::fuzz::write_file(path, data + 1, size - 1);
     try {
         shadelab::MeshLoadReport report;
-        const shadelab::Mesh m = shadelab::load_mesh(path, &report);
+        shadelab::MeshCacheUse no_cache;   // every input through the full loader, and no cache files written
+        no_cache.setting = "off";
+        const shadelab::Mesh m = shadelab::load_mesh(path, &report, &no_cache);
         // What the loader promises of every mesh it returns.
         if (m.triangles.empty() || m.normals.size() != m.positions.size()) __builtin_trap();
         for (const auto& t : m.triangles)

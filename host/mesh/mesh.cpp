@@ -378,14 +378,7 @@ namespace {
 // The path names a readable, non-empty mesh file of a supported format whose grammar OpenMesh can take;
 // returns its lower-case extension. OpenMesh must never see a file it would abort, crash or loop on.
 std::string check_mesh_path(const std::string& path) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) throw Error("mesh file '" + path + "' not found: check the path");
-    if (fs::is_directory(path, ec)) throw Error("mesh path '" + path + "' is a folder: give a mesh file");
-    const std::string ext = lower_ext(path);
-    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
-        throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
-    if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
-    if (!std::ifstream(path)) throw Error("mesh file '" + path + "' cannot be opened: check its read permission");
+    const std::string ext = check_mesh_opens(path);
     check_mesh_file(path, ext);
     return ext;
 }
@@ -610,7 +603,7 @@ void copy_duplicated_normals(std::size_t declared, Mesh& m, MeshLoadReport& r) {
 
 }  // namespace
 
-Mesh load_mesh(const std::string& path, MeshLoadReport* report) {
+Mesh load_mesh_uncached(const std::string& path, MeshLoadReport* report) {
     MeshLoadReport local;
     MeshLoadReport& r = report ? *report : local;
     r = MeshLoadReport{};

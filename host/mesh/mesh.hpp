@@ -40,10 +40,25 @@ struct MeshLoadReport {
     std::vector<std::string> notes;        // one line per repair, for the user
 };
 
+// Which mesh cache a load uses (host/mesh/mesh_cache.hpp), and what it did.
+struct MeshCacheUse {
+    std::string setting;        // "" = SHADELAB_MESH_CACHE, then the XDG default; "off" = none; else a folder
+    // What happened (set by load_mesh):
+    bool hit = false;           // the mesh and report came from the cache entry
+    bool rejected = false;      // an entry was there but unusable (why): loaded from the file instead
+    std::string why;
+    bool written = false;       // an entry was written after loading from the file
+};
+
 // Loads OBJ, OFF, PLY or STL. Throws shadelab::Error with one clear line when the file is missing,
 // unreadable, empty (no triangles left), or has NaN/Inf coordinates. Degenerate faces are dropped and
 // reported. Vertex normals come from the file when present and valid, else are computed area-weighted.
-Mesh load_mesh(const std::string& path, MeshLoadReport* report = nullptr);
+// Through the mesh cache (`cache`, or the environment's when null): a file whose bytes were loaded before
+// gives the same Mesh, bit for bit, and the same report, from the cache entry.
+Mesh load_mesh(const std::string& path, MeshLoadReport* report = nullptr, MeshCacheUse* cache = nullptr);
+
+// The same without the cache: always OpenMesh, the checks and the repairs.
+Mesh load_mesh_uncached(const std::string& path, MeshLoadReport* report = nullptr);
 
 // Unit-radius icosphere centred at the origin, built with OpenMesh, `subdivisions` times 4-to-1 refined
 // (0 = icosahedron, 20 triangles; each level x4). Vertex normals are the exact sphere normals.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -15,7 +16,10 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/format.hpp"
 #include "core/limits.hpp"
+
+namespace fs = std::filesystem;
 
 namespace shadelab {
 
@@ -571,6 +575,18 @@ void check_mesh_bytes(const std::string& bytes, const std::string& ext, const st
     else if (ext == ".off") check_off(d, Checker(name, "OFF"));
     else if (ext == ".stl") check_stl(d, Checker(name, "STL"));
     else throw Error("mesh '" + name + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
+}
+
+std::string check_mesh_opens(const std::string& path) {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) throw Error("mesh file '" + path + "' not found: check the path");
+    if (fs::is_directory(path, ec)) throw Error("mesh path '" + path + "' is a folder: give a mesh file");
+    const std::string ext = lower_ext(path);
+    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+        throw Error("mesh '" + path + "' has an unsupported format '" + ext + "': use .obj, .off, .ply or .stl");
+    if (fs::file_size(path, ec) == 0) throw Error("mesh file '" + path + "' is empty: nothing to shade");
+    if (!std::ifstream(path)) throw Error("mesh file '" + path + "' cannot be opened: check its read permission");
+    return ext;
 }
 
 void check_mesh_file(const std::string& path, const std::string& ext) {

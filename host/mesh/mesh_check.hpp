@@ -10,6 +10,10 @@
 
 namespace shadelab {
 
+// The checks before any byte is read: `path` exists, is a file of a supported format (by its extension), is not
+// empty and can be opened. Returns the lower-case extension; throws shadelab::Error with one line otherwise.
+std::string check_mesh_opens(const std::string& path);
+
 // Throws shadelab::Error with one line (the file, the line or byte where it goes wrong, what to do) when
 // `path` is not a complete, well-formed file of its format. `ext` is the lower-case extension with its
 // dot: ".obj", ".ply", ".off" or ".stl". Does not judge geometry (NaN, degenerate faces): load_mesh does.
