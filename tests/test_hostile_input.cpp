@@ -115,6 +115,8 @@ TEST_CASE("mesh files that crashed or hung OpenMesh are refused with the file, t
         {"stl_truncated.stl", {"ends inside facet 4", "truncated"}},
         // 1e39 became Inf in OpenMesh's float parse and the load ended in "no triangles"
         {"ply_beyond_float.ply", {"line 13", "'1e39'", "beyond the range of a float"}},
+        // the refusal itself was undefined behaviour: it cast the index inf to long long (UBSan, fuzz/fuzz_mesh)
+        {"ply_face_index_inf.ply", {"face 0 names vertex inf, but the file has 4 vertices"}},
         {"obj_beyond_float.obj", {"NaN/Inf, beyond-float-range", "line 2"}},
     };
     for (const auto& c : cases) {

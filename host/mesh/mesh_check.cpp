@@ -341,7 +341,7 @@ public:
                 for (double k = 0; k < count; ++k) {
                     const double v = ascii_ ? ascii_value(e, p, i) : binary_value(e, p, i, indices);
                     if (indices && !(v >= 0 && v < nvertices_))
-                        c_.fail("face " + std::to_string(i) + " names vertex " + std::to_string((long long)v) + ", but the file has " +
+                        c_.fail("face " + std::to_string(i) + " names vertex " + num(v, 17) + ", but the file has " +
                                 std::to_string(vertex_.count) + " vertices");
                 }
             }
