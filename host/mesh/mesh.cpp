@@ -90,7 +90,7 @@ std::size_t obj_index(const std::string& tok, std::size_t count) {
     if (tok.empty()) return kNone;
     char* end = nullptr;
     const long long v = std::strtoll(tok.c_str(), &end, 10);
-    if (*end != '\0') return kNone;
+    if (*end != '\0' || v == std::numeric_limits<long long>::min()) return kNone;   // -v below would overflow
     if (v > 0 && std::size_t(v) <= count) return std::size_t(v - 1);
     if (v < 0 && std::size_t(-v) <= count) return count - std::size_t(-v);
     return kNone;
