@@ -23,6 +23,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "bench_util.hpp"
+#include "contact_cold.hpp"
 #include "plan_cold.hpp"
 #include "cl/runtime.hpp"
 #include "core/error.hpp"
@@ -270,8 +271,9 @@ void bench_meshes(const std::vector<std::string>& meshes, int reps, const fs::pa
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool smoke = false, child = false, no_planning = false, meshes_only = false;
-    std::string child_plan_scene;
+    bool smoke = false, child = false, no_planning = false, contact_only = false, meshes_only = false;
+    std::string child_plan_scene, child_contact_out;
+    int contact_shared = 1, contact_reps = 2;
     std::vector<std::string> plan_scenes = {std::string(SHADELAB_SOURCE_DIR) + "/scenes/materials.json",
                                             std::string(SHADELAB_SOURCE_DIR) + "/scenes/minimal.json"};
     int reps = 3, build_models = 0, build_threads = 0;
@@ -291,6 +293,12 @@ int main(int argc, char** argv) {
     app.add_flag("--no-planning", no_planning, "Skip the planning rows");
     app.add_flag("--meshes-only", meshes_only, "Only the mesh-loading table");
     app.add_option("--child-plan", child_plan_scene, "(internal) plan this scene once and print the times");
+    app.add_option("--child-contact", child_contact_out, "(internal) write the contact sheet here once, print the times");
+    app.add_option("--contact-shared", contact_shared, "(internal) with --child-contact: 1 shared program, 0 per model")
+        ->check(CLI::Range(0, 1));
+    app.add_option("--contact-reps", contact_reps, "Cold contact-sheet runs of each kind (0: none)")
+        ->capture_default_str()->check(CLI::Range(0, 20));
+    app.add_flag("--contact-only", contact_only, "Only the cold contact-sheet rows");
     app.add_flag("--child-builds", child, "(internal) build the catalogue once and print the times");
     try {
         app.parse(argc, argv);
@@ -301,6 +309,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (child) return child_builds(build_models, build_threads);
+        if (!child_contact_out.empty()) return bench::child_contact(child_contact_out, contact_shared != 0);
         if (!child_plan_scene.empty()) return bench::child_plan(child_plan_scene, build_threads);
         int w = 0, h = 0;
         char x = 0;
@@ -310,13 +319,19 @@ int main(int argc, char** argv) {
         const fs::path tmp = fs::temp_directory_path() / ("shadelab-bench-process-" + std::to_string(::getpid()));
         fs::create_directories(tmp);
         std::printf("machine: %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
+        const std::string self = fs::canonical("/proc/self/exe").string();
+        if (contact_only) {
+            bench::bench_contact(run_capture, self, tmp, std::max(1, contact_reps));
+            fs::remove_all(tmp);
+            return 0;
+        }
         if (!meshes_only) {
             Runtime rt;
             std::printf("OpenCL: %s\n", rt.device_description().c_str());
             bench_writes(rt, load_mesh_uncached(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
-            bench_builds(fs::canonical("/proc/self/exe").string(), tmp, build_models);
-            if (!smoke && !no_planning)
-                bench::bench_planning(run_capture, fs::canonical("/proc/self/exe").string(), tmp, plan_scenes);
+            bench_builds(self, tmp, build_models);
+            if (!smoke && contact_reps > 0) bench::bench_contact(run_capture, self, tmp, contact_reps);
+            if (!smoke && !no_planning) bench::bench_planning(run_capture, self, tmp, plan_scenes);
         }
         bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps, tmp);
         fs::remove_all(tmp);

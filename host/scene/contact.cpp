@@ -76,6 +76,26 @@ Material default_material(const ModelInfo& info) {
     return resolve_material(m, "contact sheet, model '" + info.name + "'");
 }
 
+// Builds one program for the tiles' models that can share one (Shader::prepare_many), with the sheet's lights
+// and precision. A model whose default material cannot be made is left out (its tile reports why); a failed
+// build is logged and each model then builds its own program (a broken model fails its own tile only).
+void share_programs(Shader& shader, const std::vector<const ModelInfo*>& models, const pipeline::Job& job,
+                    std::ostream& log) {
+    std::vector<Material> mats;
+    for (const ModelInfo* info : models) {
+        try {
+            mats.push_back(default_material(*info));
+        } catch (const Error&) {   // its tile makes it again and reports why
+        }
+    }
+    try {
+        shader.prepare_many(mats, job.lights, job.precision);
+    } catch (const Error& e) {
+        log << "contact sheet: the models' shared program did not build, building one program per model: " << e.what()
+            << "\n";
+    }
+}
+
 void blit(Image& sheet, const Image& cell, int x0, int y0) {
     for (int y = 0; y < cell.height; ++y)
         for (int x = 0; x < cell.width; ++x)
@@ -181,6 +201,7 @@ ContactResult make_contact_sheet(const ContactOptions& o, Runtime& rt) {
         for (int c = 0; c < 4; ++c) sheet.pixels[p * 4 + std::size_t(c)] = float(kGround[c]);
 
     Shader shader(rt);
+    if (o.shared_programs) share_programs(shader, models, sphere.job, log);
     std::vector<std::string> labels;
     for (int i = 0; i < n; ++i) {
         const ModelInfo& info = *models[std::size_t(i)];

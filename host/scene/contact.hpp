@@ -20,6 +20,10 @@ struct ContactOptions {
     std::vector<std::string> models;         // empty: the whole catalogue, in its order
     Precision precision = Precision::Precise;   // of every tile
     bool per_vertex = false;                 // every tile shaded at the vertices and interpolated (Gouraud)
+    // One program for every model that can share one (Shader::prepare_many: about 3x less program-build work
+    // on a cold first run, docs/speed.md); false: each model its own program, built at its first tile (the
+    // way before, kept for bench_e2e_process's comparison). The images are the same either way.
+    bool shared_programs = true;
     std::ostream* log = nullptr;             // nullptr: std::cerr
 };
 

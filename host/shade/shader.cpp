@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <set>
 
 #include "consts/scene.h"   // DeviceLight, DeviceView, shared with kernels/shade.cl
 #include "core/error.hpp"
@@ -106,7 +107,81 @@ std::size_t table_knots_bucket(const ModelInfo& info, const Material& m) {
     return most;
 }
 
+// A program request as one string: what tells the single-model programs apart (Runtime::build's key).
+std::string request_key(const ProgramRequest& r) {
+    std::string key = r.main_file;
+    for (const auto& d : r.defines) key += " -D" + d;
+    return key + " " + r.extra_options;
+}
+
+// A model whose shade kernel can share a program with others' (kernels/shade_many.cl): no table (SL_TABLE
+// changes every kernel of a program), no children (their headers and evals are program-wide defines).
+bool shareable(const Material& m) {
+    const ModelInfo& info = find_model(m.model);
+    return !has_tables(info) && info.children == 0 && m.children.empty();
+}
+
+// kernels/shade_many.cl's request for `models` (distinct, shareable, within its slots), given the single-model
+// request of one of them: the same defines and options without the model's header and eval, then each model
+// file once as SL_HEADER_i and each model's eval as SL_EVAL_i.
+ProgramRequest many_program(const std::vector<const ModelInfo*>& models, const ProgramRequest& single) {
+    ProgramRequest r{"shade_many.cl", {}, single.extra_options};
+    for (const std::string& d : single.defines)
+        if (d.rfind("SL_MODEL_HEADER=", 0) != 0 && d.rfind("SL_EVAL=", 0) != 0) r.defines.push_back(d);
+    std::vector<std::string> headers;
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        if (std::find(headers.begin(), headers.end(), models[i]->header) == headers.end()) {
+            r.defines.push_back("SL_HEADER_" + std::to_string(headers.size()) + "=<" + models[i]->header + ">");
+            headers.push_back(models[i]->header);
+        }
+        r.defines.push_back("SL_EVAL_" + std::to_string(i) + "=" + models[i]->eval);
+    }
+    return r;
+}
+
 }  // namespace
+
+std::size_t Shader::prepare_many(const std::vector<Material>& materials, const std::vector<Light>& lights,
+                                 Precision precision) {
+    struct Todo {
+        std::string key;   // request_key of the model's own program
+        ProgramRequest single;
+        const ModelInfo* info;
+    };
+    std::vector<Todo> todo;
+    std::set<std::string> seen;
+    for (const Material& given : materials) {
+        const Material m = resolve_material(given);
+        if (!shareable(m)) continue;
+        ProgramRequest single = shade_program(m, lights, precision);
+        std::string key = request_key(single);
+        if (many_.count(key) || !seen.insert(key).second) continue;
+        todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
+    }
+    std::map<std::string, SharedKernel> added;
+    for (std::size_t b = 0; b < todo.size();) {   // programs of up to kManyModels models and kManyHeaders files
+        std::vector<const ModelInfo*> models;
+        std::set<std::string> headers;
+        std::size_t e = b;
+        for (; e < todo.size() && models.size() < kManyModels; ++e) {
+            headers.insert(todo[e].info->header);
+            if (headers.size() > kManyHeaders) break;
+            models.push_back(todo[e].info);
+        }
+        const ProgramRequest req = many_program(models, todo[b].single);
+        const cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
+        for (std::size_t i = b; i < e; ++i) added[todo[i].key] = {prog, "shade_fragments_" + todo[i].info->eval};
+        b = e;
+    }
+    many_.insert(added.begin(), added.end());
+    return added.size();
+}
+
+cl::Kernel Shader::shade_kernel(const ProgramRequest& single) {
+    const auto it = many_.find(request_key(single));
+    if (it != many_.end()) return cl::Kernel(it->second.program, it->second.kernel.c_str());
+    return cl::Kernel(rt_.build(single.main_file, single.defines, single.extra_options), "shade_fragments");
+}
 
 const char* precision_name(Precision p) { return p == Precision::Fast ? "fast" : "precise"; }
 
@@ -164,10 +239,8 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     std::vector<float> out(3 * padded);
     try {
         const auto t0 = clock::now();
-        const ProgramRequest req = shade_program(mat, setup.lights, setup.precision);
-        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
+        cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision));
         const auto t1 = clock::now();
-        cl::Kernel k(prog, "shade_fragments");
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
         const std::size_t bytes = padded * sizeof(float);

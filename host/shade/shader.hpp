@@ -1,10 +1,12 @@
 // Runs a material's model over a fragment buffer (or over raw direction triples) on the OpenCL device.
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "cl/prebuild.hpp"
 #include "cl/runtime.hpp"
 #include "core/fragment_buffer.hpp"
 #include "models/catalogue.hpp"
@@ -43,7 +45,21 @@ public:
     explicit Shader(Runtime& runtime) : rt_(runtime) {}
 
     // Returns three planes of n floats: all red, then all green, then all blue (linear radiance).
+    // The kernel comes from a program prepare_many() built when it holds this material's, else from the
+    // material's own program (kernels/shade.cl; built at the first use, then cached by the Runtime).
     std::vector<float> shade(const FragmentBuffer& fragments, const ShadeSetup& setup, ShadeTiming* timing = nullptr);
+
+    // Builds, for these lights and precision, programs holding the shade kernels of many of `materials` at once
+    // (kernels/shade_many.cl: up to kManyModels models of up to kManyHeaders model files per program), so that
+    // shading them all costs one program build instead of one per model (PoCL's cost of a program is mostly
+    // fixed: docs/speed.md, "The whole process"). Covers the materials without tables or children (those keep
+    // their own programs) whose program is not prepared yet; shade() of a covered material with the same lights
+    // (count, all directional or not) and precision then uses its kernel there, the same code as its own
+    // program's. Returns how many distinct models it added. A build failure throws shadelab::Error (nothing is
+    // added; shade() then builds each material's own program).
+    std::size_t prepare_many(const std::vector<Material>& materials, const std::vector<Light>& lights,
+                             Precision precision = Precision::Precise);
+    static constexpr std::size_t kManyModels = 64, kManyHeaders = 16;   // kernels/shade_many.cl's slots
 
     // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
     // returns rgb interleaved (3n floats). Used by the kernel-vs-reference sweeps.
@@ -78,6 +94,12 @@ public:
 
 private:
     Runtime& rt_;
+    struct SharedKernel {
+        cl::Program program;
+        std::string kernel;              // shade_fragments_<eval function>
+    };
+    std::map<std::string, SharedKernel> many_;   // by the single-model program it stands for (request_key)
+    cl::Kernel shade_kernel(const ProgramRequest& single);
     cl::Buffer batch_out_;              // eval_batch's output, kept between calls (no fresh pages per launch)
     std::size_t batch_out_bytes_ = 0;
 };

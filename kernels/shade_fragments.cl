@@ -1,0 +1,38 @@
+// The fragment-shading kernel, named SL_SHADE_KERNEL, for the model SL_EVAL: kernels/shade.cl includes it
+// once (as shade_fragments), kernels/shade_many.cl once per model (as shade_fragments_<eval function>).
+// No include guard on purpose. Needs kernels/shade_parts.cl and the model's header included before it.
+// One fragment: sum over lights of incident * model, plus ambient * albedo.
+__kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const float* restrict py,
+                              __global const float* restrict pz, __global const float* restrict nx,
+                              __global const float* restrict ny, __global const float* restrict nz,
+                              __global float* restrict out, const uint stride, const DeviceView view,
+                              __constant const ModelConsts* mc, __constant const DeviceLight* lights,
+                              const float4 ambient, __global const float* restrict tab) {
+    (void)tab;
+    // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
+    // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
+    // lights, the model's c[]) under a condition, where PoCL's work-item loop cannot hoist them: vectorised,
+    // each became a gather per fragment. size_t, not uint: a 32-bit index that may wrap makes px[i] a gather.
+    const size_t i = get_global_id(0);
+    const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
+    const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
+    const sl_v3 V = view_dir_v3(view, P);
+    float r = ambient.x * mc->albedo[0], g = ambient.y * mc->albedo[1], b = ambient.z * mc->albedo[2];
+#pragma unroll
+    for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
+        sl_v3 L;
+        const float e = light_incident_v3(&lights[l], P, &L);
+        // Each light's evaluation after the previous light's (common.cl's sl_after): the unrolled loop makes the
+        // model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>, which
+        // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
+        L.x = sl_after(L.x, r);
+        const sl_rgb v = SL_EVAL_AT(N, L, V, P, mc);
+        __constant const float* rad = lights[l].radiance;
+        r += (rad[0] * e) * v.r;
+        g += (rad[1] * e) * v.g;
+        b += (rad[2] * e) * v.b;
+    }
+    out[i] = sl_finite_or_zero(r);
+    out[stride + i] = sl_finite_or_zero(g);
+    out[2 * stride + i] = sl_finite_or_zero(b);
+}

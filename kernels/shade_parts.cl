@@ -1,0 +1,71 @@
+// What every shading kernel shares (kernels/shade.cl, kernels/shade_many.cl): the light and view helpers and
+// SL_EVAL_AT, which calls the model named by SL_EVAL (expanded where a kernel uses it, so shade_many.cl can
+// name another model before each kernel).
+#ifndef SHADELAB_SHADE_PARTS_CL
+#define SHADELAB_SHADE_PARTS_CL
+#include "common.cl"
+
+#ifndef SL_NUM_LIGHTS
+#define SL_NUM_LIGHTS 1
+#endif
+// SL_ALL_DIRECTIONAL=1 (set by Shader::shade when no light is a point light) removes the point-light arithmetic:
+// the vectorised work-item loop cannot branch on the light type, it computes both and selects (with the point
+// path's sqrt and three divisions Lambert ran 330-440 Mfrag/s, without 550-710: 4M fragments, one directional
+// light, two alternating runs).
+#ifndef SL_ALL_DIRECTIONAL
+#define SL_ALL_DIRECTIONAL 0
+#endif
+
+// Every kernel below takes the material's table buffer `tab` as its last argument (a 1-float buffer, never read,
+// for the models without a table); only a table model's eval is handed it.
+#if defined(SL_TABLE) && SL_TABLE
+#define SL_EVAL_AT(N, L, V, P, mc) SL_EVAL(N, L, V, P, mc, tab)
+#else
+#define SL_EVAL_AT(N, L, V, P, mc) SL_EVAL(N, L, V, P, mc)
+#endif
+
+// A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no
+// image or table ever holds NaN/Inf. Without a comparison: exponent field 255 (Inf, NaN) gives the mask 0, any
+// other exponent all ones. Three comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts
+// from to pack the channels into a <2 x float>, and one packed instruction stops PoCL's loop vectoriser.
+SL_INLINE float sl_finite_or_zero(float v) {
+    const uint u = as_uint(v);
+    const uint nonfinite = (((u >> 23) & 0xffu) + 1u) >> 8;   // 1 iff the exponent field is all ones
+    return as_float(u & (nonfinite - 1u));
+}
+
+// Every model's eval is written float3-free (common.cl's sl_v3 / sl_rgb), so the whole kernel is scalar code
+// and PoCL's loop vectoriser runs 8 fragments per instruction ("vectorized loop (vectorization width: 8)" with
+// POCL_VECTORIZER_REMARKS=1; docs/precision.md, "Vectorised kernels", lists what it took and what is not).
+
+// Irradiance-like factor and direction of light `li` at P, in scalars: returns the factor that scales the
+// light's radiance and sets *L to the unit direction to it. Directional lights are unattenuated (factor 1);
+// point lights fall off with the inverse square of distance, optionally windowed to zero at `range` with
+// (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
+SL_INLINE float light_incident_v3(__constant const DeviceLight* li, sl_v3 P, sl_v3* L) {
+    const sl_v3 pos = sl_v3_make(li->pos_or_dir[0], li->pos_or_dir[1], li->pos_or_dir[2]);
+    const float range = li->range;   // read before the branch: a load under it would not be hoisted (a gather)
+    if (SL_ALL_DIRECTIONAL || li->type == 0.0f) {
+        *L = pos;
+        return 1.0f;
+    }
+    const sl_v3 d = sl_sub(pos, P);
+    const float d2 = fmax(sl_dot(d, d), 1e-12f);   // a light exactly at the surface point: no direction
+    *L = sl_scale(d, rsqrt(d2));
+    float window = 1.0f;
+    if (range > 0.0f) {
+        const float q = d2 / (range * range);
+        window = sl_saturate(1.0f - q * q);
+        window *= window;
+    }
+    return window / d2;
+}
+
+// The unit vector to the viewer at P: perspective: view.pos_or_dir is the camera position; orthographic: it is
+// the unit direction to the viewer, the same for every fragment (used for the moon disc).
+SL_INLINE sl_v3 view_dir_v3(DeviceView view, sl_v3 P) {
+    const sl_v3 eye = sl_v3_make(view.pos_or_dir[0], view.pos_or_dir[1], view.pos_or_dir[2]);
+    return view.perspective != 0.0f ? sl_normalize(sl_sub(eye, P)) : eye;
+}
+
+#endif

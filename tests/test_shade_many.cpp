@@ -1,0 +1,132 @@
+// Many models' shade kernels in one program (Shader::prepare_many, kernels/shade_many.cl): the same pixels as
+// each model's own program, bit for bit, with fewer programs built; models with tables or children, and shades
+// with other lights or precision, keep their own programs. (The whole catalogue's contact sheet, shared against
+// per-model programs, is compared pixel for pixel by scripts/identical_renders.sh.)
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "cl/runtime.hpp"
+#include "models/catalogue.hpp"
+#include "shade/shader.hpp"
+#include "support.hpp"
+
+using namespace shadelab;
+
+namespace {
+
+Material default_of(const std::string& model) {
+    Material m;
+    m.model = model;
+    add_demo_children(m, find_model(model));
+    return resolve_material(m);
+}
+
+FragmentBuffer random_fragments(std::size_t n, std::uint64_t seed) {
+    std::mt19937_64 g(seed);
+    FragmentBuffer fb;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 p = 2.0 * test::random_unit(g) * test::unit_double(g);
+        const glm::dvec3 nn = test::random_unit(g);
+        fb.push_back(float(p.x), float(p.y), float(p.z), float(nn.x), float(nn.y), float(nn.z), int(i), 1.0f);
+    }
+    return fb;
+}
+
+ShadeSetup setup_of(const Material& m, const std::vector<Light>& lights, Precision p) {
+    ShadeSetup s;
+    s.material = m;
+    s.lights = lights;
+    s.ambient = {0.03, 0.02, 0.01};
+    s.view = {0.3, 0.5, 4.0, 1.0};
+    s.precision = p;
+    return s;
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+// One model of each of several families (skipped when the catalogue has no such model).
+std::vector<std::string> family_models() {
+    std::vector<std::string> out;
+    for (const char* name : {"lambert", "wrap_energy", "blinn_phong", "toon", "minnaert_1941", "oren_nayar_full",
+                             "cook_torrance_ggx", "hapke_hen"})
+        for (const auto& info : model_catalogue())
+            if (info.name == name) out.push_back(name);
+    return out;
+}
+
+const std::vector<Light> kOneDirectional{Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 0.9, 0.8}, 1.0, 0.0}};
+const std::vector<Light> kDirectionalAndPoint{
+    Light{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 0.9, 0.8}, 1.0, 0.0},
+    Light{Light::Type::Point, {-2.0, 3.0, 2.5}, {0.5, 0.6, 1.0}, 4.0, 8.0}};
+
+}  // namespace
+
+TEST_CASE("shade: one shared program gives each model's own program's pixels, bit for bit", "[shade][shade_many]") {
+    const std::vector<std::string> models = family_models();
+    REQUIRE(models.size() >= 4);
+    const FragmentBuffer fb = random_fragments(1000, 7);   // not a multiple of the work-group size: padding too
+    for (Precision p : {Precision::Precise, Precision::Fast})
+        for (const auto* lights : {&kOneDirectional, &kDirectionalAndPoint}) {
+            Runtime rt(RuntimeOptions{"", -1, "", "off"});
+            Shader own(rt), shared(rt);
+            std::vector<Material> mats;
+            for (const auto& name : models) mats.push_back(default_of(name));
+            const std::size_t before = rt.programs_built();
+            REQUIRE(shared.prepare_many(mats, *lights, p) == models.size());
+            CHECK(rt.programs_built() == before + 1);   // one program for them all
+            for (const Material& m : mats) {
+                INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)");
+                const std::vector<float> a = own.shade(fb, setup_of(m, *lights, p));
+                const std::vector<float> b = shared.shade(fb, setup_of(m, *lights, p));
+                REQUIRE(a.size() == 3 * fb.size());
+                CHECK(same_bits(a, b));
+            }
+            // `own` built one program per model, `shared` none beyond its one
+            CHECK(rt.programs_built() == before + 1 + models.size());
+        }
+}
+
+TEST_CASE("shade: models with tables or children and other lights keep their own programs", "[shade][shade_many]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    Shader shader(rt);
+    std::vector<Material> mats{default_of("lambert"), default_of("phong"), default_of("lambert")};
+    for (const auto& info : model_catalogue())
+        if (has_tables(info) || info.children > 0) mats.push_back(default_of(info.name));
+    REQUIRE(mats.size() >= 4);   // the catalogue has a table model or a blend
+    CHECK(shader.prepare_many(mats, kOneDirectional, Precision::Precise) == 2);   // lambert once, phong
+    CHECK(shader.prepare_many(mats, kOneDirectional, Precision::Precise) == 0);   // already prepared
+    CHECK(rt.programs_built() == 1);
+    const FragmentBuffer fb = random_fragments(300, 11);
+    shader.shade(fb, setup_of(mats[0], kOneDirectional, Precision::Precise));
+    CHECK(rt.programs_built() == 1);
+    shader.shade(fb, setup_of(mats[0], kDirectionalAndPoint, Precision::Precise));   // other lights: own program
+    CHECK(rt.programs_built() == 2);
+    shader.shade(fb, setup_of(mats[0], kOneDirectional, Precision::Fast));           // other precision: own
+    CHECK(rt.programs_built() == 3);
+    shader.shade(fb, setup_of(mats[3], kOneDirectional, Precision::Precise));        // a table or blend model
+    CHECK(rt.programs_built() == 4);
+}
+
+TEST_CASE("shade: a shared program that does not build throws and leaves shade() to the models' own programs",
+          "[shade][shade_many]") {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("shadelab-shade-many-" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir);
+    fs::copy(Runtime::find_kernel_dir(), dir, fs::copy_options::recursive);
+    std::ofstream(dir / "shade_many.cl") << "#error broken on purpose\n";
+    {
+        Runtime rt(RuntimeOptions{"", -1, dir.string(), "off"});
+        Shader shader(rt);
+        const Material m = default_of("lambert");
+        REQUIRE_THROWS_WITH(shader.prepare_many({m}, kOneDirectional), Catch::Contains("shade_many.cl"));
+        const std::vector<float> v = shader.shade(random_fragments(10, 3), setup_of(m, kOneDirectional, Precision::Precise));
+        CHECK(v.size() == 30);
+    }
+    fs::remove_all(dir);
+}
