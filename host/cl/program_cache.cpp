@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/atomic_file.hpp"
+#include "core/bytes.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -36,27 +37,10 @@ std::string sha256_raw(const void* data, std::size_t n) {
     return std::string(reinterpret_cast<const char*>(md), kDigest);
 }
 
-std::string hex(const std::string& raw) {
-    static const char* digits = "0123456789abcdef";
-    std::string s;
-    for (unsigned char c : raw) {
-        s += digits[c >> 4];
-        s += digits[c & 15];
-    }
-    return s;
-}
-
-void put_u32(std::string& s, std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) s += char((v >> (8 * i)) & 0xff);
-}
-void put_u64(std::string& s, std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) s += char((v >> (8 * i)) & 0xff);
-}
-std::uint64_t get_le(const std::string& s, std::size_t at, int bytes) {
-    std::uint64_t v = 0;
-    for (int i = 0; i < bytes; ++i) v |= std::uint64_t(static_cast<unsigned char>(s[at + std::size_t(i)])) << (8 * i);
-    return v;
-}
+using bytes::get_le;
+using bytes::hex;
+using bytes::put_u32;
+using bytes::put_u64;
 
 }  // namespace
 
