@@ -1,7 +1,6 @@
 // The mesh cache (see mesh_cache.hpp), and load_mesh, which goes through it.
 #include "mesh/mesh_cache.hpp"
 
-#include <openssl/evp.h>
 #include <OpenMesh/Core/System/config.h>
 
 #include <cmath>
@@ -18,6 +17,7 @@
 
 #include "core/atomic_file.hpp"
 #include "core/bytes.hpp"
+#include "core/cache_file.hpp"
 #include "core/error.hpp"
 #include "core/limits.hpp"
 #include "core/log.hpp"
@@ -38,8 +38,8 @@ namespace {
 
 constexpr char kMagic[4] = {'S', 'L', 'M', 'C'};
 constexpr std::uint32_t kFormat = 1;
-constexpr std::size_t kDigest = 32;   // SHA-256
-constexpr std::size_t kHeader = sizeof kMagic + 4 + kDigest + 8 + kDigest;   // magic, format, key, size, SHA-256
+using cache_file::kDigest;
+using cache_file::kHeader;
 constexpr std::size_t kCounts = 10;   // u64 fields before the notes (encode_head)
 
 static_assert(sizeof(glm::dvec3) == 3 * sizeof(double) && sizeof(glm::u32vec3) == 3 * sizeof(std::uint32_t),
@@ -51,37 +51,10 @@ static_assert(sizeof(Mesh) == 3 * sizeof(std::vector<glm::dvec3>) + sizeof(std::
 static_assert(sizeof(MeshLoadReport) == 7 * sizeof(std::size_t) + sizeof(std::vector<std::string>),   // 6 counts, 1 flag
               "MeshLoadReport changed: store the new field in the mesh cache entry");
 
-std::string env(const char* name) {
-    const char* v = std::getenv(name);
-    return v ? std::string(v) : std::string();
-}
-
-// Incremental SHA-256 through OpenSSL's EVP interface.
-class Sha256 {
-public:
-    Sha256() : ctx_(EVP_MD_CTX_new(), EVP_MD_CTX_free) {
-        if (!ctx_ || EVP_DigestInit_ex(ctx_.get(), EVP_sha256(), nullptr) != 1)
-            throw Error("internal: SHA-256 of a mesh cache entry failed in OpenSSL");
-    }
-    void add(const void* data, std::size_t n) {
-        if (n && EVP_DigestUpdate(ctx_.get(), data, n) != 1)
-            throw Error("internal: SHA-256 of a mesh cache entry failed in OpenSSL");
-    }
-    std::string raw() {
-        unsigned char md[EVP_MAX_MD_SIZE];
-        unsigned int len = 0;
-        if (EVP_DigestFinal_ex(ctx_.get(), md, &len) != 1 || len != kDigest)
-            throw Error("internal: SHA-256 of a mesh cache entry failed in OpenSSL");
-        return std::string(reinterpret_cast<const char*>(md), kDigest);
-    }
-
-private:
-    std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx_;
-};
+using cache_file::Sha256;
 
 using bytes::get_le;
 using bytes::hex;
-using bytes::put_u32;
 using bytes::put_u64;
 
 // The arrays are stored in the machine's byte order, which is therefore part of the key.
@@ -188,23 +161,6 @@ bool decode_payload(const std::string& f, Mesh& m, MeshLoadReport& r, std::strin
     return why.empty();
 }
 
-// The header of `f` against `key` and the payload's size and SHA-256; empty when it checks out, else why not.
-std::string header_problem(const std::string& f, const std::string& key) {
-    if (f.size() < kHeader || std::memcmp(f.data(), kMagic, sizeof kMagic) != 0)
-        return "not a shadelab mesh-cache entry (or truncated header)";
-    if (get_le(f, 4, 4) != kFormat)
-        return "format version " + std::to_string(get_le(f, 4, 4)) + ", expected " + std::to_string(kFormat);
-    if (hex(f.substr(8, kDigest)) != key) return "the entry holds another key (stale or renamed)";
-    const std::uint64_t size = get_le(f, 8 + kDigest, 8);
-    if (size != f.size() - kHeader)
-        return "payload size " + std::to_string(size) + " does not match the file (" + std::to_string(f.size() - kHeader) +
-               " bytes after the header): truncated or corrupt";
-    Sha256 h;
-    h.add(f.data() + kHeader, f.size() - kHeader);
-    if (h.raw() != f.substr(16 + kDigest, kDigest)) return "the payload's SHA-256 does not match: corrupt";
-    return {};
-}
-
 // Size and modification time of a file: a file whose stamp changed while it was loaded is not stored.
 struct FileStamp {
     std::uintmax_t size = 0;
@@ -231,14 +187,7 @@ std::mutex& write_mutex() {
 }  // namespace
 
 std::string mesh_cache_dir(const std::string& setting) {
-    const std::string s = setting.empty() ? env("SHADELAB_MESH_CACHE") : setting;
-    if (s == "off" || s == "0") return "";
-    if (!s.empty()) return s;
-    const std::string xdg = env("XDG_CACHE_HOME");
-    if (!xdg.empty()) return (fs::path(xdg) / "shadelab" / "meshes").string();
-    const std::string home = env("HOME");
-    if (!home.empty()) return (fs::path(home) / ".cache" / "shadelab" / "meshes").string();
-    return "";   // nowhere to keep it: no cache
+    return cache_file::folder(setting, "SHADELAB_MESH_CACHE", "meshes");
 }
 
 std::string mesh_cache_key(const std::string& path, const std::string& ext) {
@@ -280,7 +229,7 @@ bool read_mesh_cache_entry(const std::string& dir, const std::string& key, Mesh&
         std::string f(std::size_t(size), '\0');
         if (!in.read(f.data(), std::streamsize(size)) || in.peek() != std::char_traits<char>::eof())
             return (why = "it cannot be read whole (changed while read?)"), false;
-        why = header_problem(f, key);
+        why = cache_file::header_problem(f, kMagic, kFormat, key, "mesh-cache", "payload");
         if (!why.empty()) return false;
         Mesh m;
         MeshLoadReport r;
@@ -305,11 +254,7 @@ bool write_mesh_cache_entry(const std::string& dir, const std::string& key, cons
         h.add(mesh.positions.data(), pos);
         h.add(mesh.normals.data(), nrm);
         h.add(mesh.triangles.data(), tri);
-        std::string header(kMagic, sizeof kMagic);
-        put_u32(header, kFormat);
-        for (std::size_t i = 0; i < kDigest; ++i) header += char(std::stoi(key.substr(2 * i, 2), nullptr, 16));
-        put_u64(header, head.size() + pos + nrm + tri);
-        header += h.raw();
+        const std::string header = cache_file::header(kMagic, kFormat, key, head.size() + pos + nrm + tri, h.raw());
         std::lock_guard<std::mutex> lock(write_mutex());
         static std::set<std::string> swept;   // the leftovers of a killed process, once per folder and process
         if (swept.insert(dir).second) remove_stale_temporaries(dir);
