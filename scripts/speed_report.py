@@ -403,7 +403,7 @@ def process_builds(t):
     rows = [r for r in rows if r]
     if not rows:
         return "Program builds: not measured in this run."
-    what = lines[0].lstrip("= ").replace("program builds: ", "")
+    what = lines[0].lstrip("= ").replace("program builds: ", "").replace("catalogue models", "catalogue model")
     out = [f"| program builds, {what} | build() | whole process | programs | from shadelab's cache | vs cold |",
            "| --- | --- | --- | --- | --- | --- |"]
     for r in rows:
@@ -565,8 +565,12 @@ def load_runs(data):
     return runs
 
 
+def wall(seconds):
+    return f"{seconds / 60:.1f} min" if seconds >= 60 else f"{seconds:.0f} s"
+
+
 def runs_block(runs):
-    out = ["| part | run (UTC) | revision | CPU, cores | PoCL device | bench: load average start -> end, minutes |",
+    out = ["| part | run (UTC) | revision | CPU, cores | PoCL device | bench: load average (1 min) start -> end, wall time |",
            "| --- | --- | --- | --- | --- | --- |"]
     for part in PARTS:
         r = runs.get(part)
@@ -574,7 +578,7 @@ def runs_block(runs):
             out.append(f"| {part} | not run | | | | |")
             continue
         steps = "; ".join(f"{s['bench']}: {s['load_start'].split()[0]} -> {s['load_end'].split()[0]}, "
-                          f"{s['seconds'] / 60:.1f}" for s in r["steps"])
+                          f"{wall(s['seconds'])}" for s in r["steps"])
         out.append(f"| {part}{' (--quick)' if r.get('quick') else ''} | {r['date']} | `{r['revision']}` | {r['cpu']}, "
                    f"{r['cores']} | {r['device']} | {steps} |")
     return "\n".join(out)
