@@ -224,6 +224,7 @@ std::string vectoriser_verdict(const std::string& remarks) {
     std::set<std::string> widths;
     std::string reason;
     const std::string vec = "vectorized loop (vectorization width: ", novec = "loop not vectorized: ";
+    const std::string refused = "the cost-model indicates that vectorization is not beneficial";
     for (std::size_t p = remarks.find(vec); p != std::string::npos; p = remarks.find(vec, p + 1)) {
         const std::size_t q = p + vec.size();
         widths.insert(remarks.substr(q, remarks.find_first_not_of("0123456789", q) - q));
@@ -234,6 +235,9 @@ std::string vectoriser_verdict(const std::string& remarks) {
         reason = remarks.substr(q, std::min(remarks.find("<unknown>", q), remarks.find('\n', q)) - q);
         while (!reason.empty() && (reason.back() == ' ' || reason.back() == '\n')) reason.pop_back();
     }
+    // The loop vectoriser's other refusal, its cost model's (seen on AVX2 hosts, pthread-haswell, for loads
+    // it would have to gather): it names no "loop not vectorized" reason.
+    if (reason.empty() && remarks.find(refused) != std::string::npos) reason = refused;
     std::string w;
     for (const auto& x : widths) w += (w.empty() ? "" : ",") + x;
     if (w.empty() && reason.empty()) return "?";
@@ -466,13 +470,17 @@ int main(int argc, char** argv) {
             setenv("POCL_VECTORIZER_REMARKS", "1", 1);
             setenv("POCL_KERNEL_CACHE", "0", 1);
         }
+        // shadelab's program-binary cache off too when reading remarks: a binary from it carries the kernels PoCL
+        // compiled before it was stored, so they would not be compiled again, and print no remark ("?").
+        RuntimeOptions ro;
+        if (opt.vec_report && !opt.local_study) ro.program_cache = "off";
         std::ofstream csv;
         if (!opt.csv.empty()) {
             csv.open(opt.csv);
             if (!csv) throw Error("cannot write the CSV file '" + opt.csv + "': check the folder exists and is writable");
             csv << "n,model,mode,mfrag_per_s,gb_per_s,of_stream,x_cpp,x_ref,fast_x_precise,vectorised,target,verdict\n";
         }
-        Runtime rt;
+        Runtime rt(ro);
         Shader shader(rt);
         std::cout << "machine: " << std::thread::hardware_concurrency() << " threads, " << bench::cpu_name() << "\n"
                   << "device:  " << rt.device_description() << "\n"

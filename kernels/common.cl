@@ -25,7 +25,30 @@
 #include "consts/scene.h"
 
 // A model's own constants as its named struct (consts/<family>.h), e.g. SL_CONSTS(OrenNayarConsts, mc)->A.
-#define SL_CONSTS(T, mc) ((__constant const T*)(mc)->block)
+// The models read their constants from a private copy that each kernel makes on entry (SL_PRIVATE_CONSTS), not
+// from __constant memory: a load from a kernel argument under a condition (x > 0 ? pow(x, k->n) : 0) cannot be
+// hoisted out of PoCL's work-item loop, and on AVX2 the loop vectoriser's cost model then rejects the whole loop
+// (a gather per fragment; "the cost-model indicates that vectorization is not beneficial" for 40 of 46 models on
+// pthread-haswell). The copy's loads are unconditional, at the top, and hoisted; SROA removes the copy.
+#define SL_CONSTS(T, mc) ((const T*)(mc)->block)
+
+// How many ModelConsts a kernel's model reads: its own, then one per child (gradient: mc + 1, mc + 2), copied
+// one by one (a copy loop stays a memcpy call in the work-item loop, which the vectoriser refuses).
+#if defined(SL_CHILD1_EVAL)
+#define SL_CONSTS_COUNT 3
+#define SL_COPY_CONSTS(d, s) d[0] = (s)[0], d[1] = (s)[1], d[2] = (s)[2]
+#elif defined(SL_CHILD0_EVAL)
+#define SL_CONSTS_COUNT 2
+#define SL_COPY_CONSTS(d, s) d[0] = (s)[0], d[1] = (s)[1]
+#else
+#define SL_CONSTS_COUNT 1
+#define SL_COPY_CONSTS(d, s) d[0] = (s)[0]
+#endif
+
+// Declares `name`, a private copy of the SL_CONSTS_COUNT ModelConsts at the __constant pointer `src`.
+#define SL_PRIVATE_CONSTS(name, src) \
+    ModelConsts name[SL_CONSTS_COUNT]; \
+    SL_COPY_CONSTS(name, src)
 
 SL_INLINE float sl_saturate(float x) { return clamp(x, 0.0f, 1.0f); }
 
@@ -59,11 +82,11 @@ SL_INLINE sl_v3 sl_normalize(sl_v3 a) { return sl_scale(a, rsqrt(sl_dot(a, a)));
 // Per-channel results: the common "albedo * d + specular * s" shape of the models.
 SL_INLINE sl_rgb sl_rgb_make(float r, float g, float b) { sl_rgb v; v.r = r; v.g = g; v.b = b; return v; }
 // albedo * d
-SL_INLINE sl_rgb sl_albedo_times(__constant const ModelConsts* mc, float d) {
+SL_INLINE sl_rgb sl_albedo_times(const ModelConsts* mc, float d) {
     return sl_rgb_make(mc->albedo[0] * d, mc->albedo[1] * d, mc->albedo[2] * d);
 }
 // albedo * d + specular * s
-SL_INLINE sl_rgb sl_diffuse_specular(__constant const ModelConsts* mc, float d, float s) {
+SL_INLINE sl_rgb sl_diffuse_specular(const ModelConsts* mc, float d, float s) {
     return sl_rgb_make(mc->albedo[0] * d + mc->specular[0] * s, mc->albedo[1] * d + mc->specular[1] * s,
                        mc->albedo[2] * d + mc->specular[2] * s);
 }

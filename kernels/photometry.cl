@@ -27,10 +27,11 @@ __kernel void eval_photometric(__global const float* restrict mu0, __global cons
                                __global const float* restrict sin_i, __global const float* restrict sin_e,
                                __global const float* restrict cos_g, __global const float* restrict tan_half_g,
                                __global const float* restrict tan_half_psi, __global float* restrict out, const uint n,
-                               __constant const ModelConsts* mc) {
+                               __constant const ModelConsts* mc_arg) {
     // No bounds check: the host pads every array to the launch size (a check here would put the constants' loads
     // under a condition, where PoCL's work-item loop cannot hoist them; kernels/shade.cl says more). `n` is unused.
     (void)n;
+    SL_PRIVATE_CONSTS(mc, mc_arg);   // see common.cl's SL_CONSTS
     const size_t i = get_global_id(0);
     sl_pho g;
     g.mu0 = mu0[i];
@@ -75,7 +76,7 @@ __kernel void eval_photometric_sets(__global const float* restrict mu0, __global
                                     __global const float* restrict tan_half_psi, __global float* restrict out,
                                     const uint stride, __constant const ModelConsts* sets) {
     const size_t i = get_global_id(0), s = get_global_id(1);
-    __constant const ModelConsts* mc = sets + s;
+    SL_PRIVATE_CONSTS(mc, sets + s);   // see common.cl's SL_CONSTS
     sl_pho g;
     g.mu0 = mu0[i];
     g.mu = mu[i];

@@ -18,7 +18,7 @@
 // The model alone at triple i of xyz-interleaved N, L, V, P (unmasked: tests/test_precision.cpp counts its NaN/Inf).
 SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global const float* L_,
                                    __global const float* V_, __global const float* P_,
-                                   __constant const ModelConsts* mc, __global const float* restrict tab) {
+                                   const ModelConsts* mc, __global const float* restrict tab) {
     (void)tab;
     const sl_v3 N = sl_v3_make(N_[3 * i], N_[3 * i + 1], N_[3 * i + 2]);
     const sl_v3 L = sl_v3_make(L_[3 * i], L_[3 * i + 1], L_[3 * i + 2]);
@@ -30,8 +30,9 @@ SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global co
 // The model alone for given unit directions (no lights, no attenuation): what the tests sweep.
 __kernel void eval_directions(__global const float* restrict N_, __global const float* restrict L_,
                               __global const float* restrict V_, __global const float* restrict P_,
-                              __global float* restrict out, const uint n, __constant const ModelConsts* mc,
+                              __global float* restrict out, const uint n, __constant const ModelConsts* mc_arg,
                               __global const float* restrict tab) {
+    SL_PRIVATE_CONSTS(mc, mc_arg);   // see common.cl's SL_CONSTS
     const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes px[i] a gather
     if (i >= n) return;
     const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);
@@ -56,7 +57,7 @@ __kernel void eval_batch(__global const float* restrict dirs, __global float* re
     const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes dirs[i] a gather
     const size_t s = get_global_id(1);
     const size_t st = stride;
-    __constant const ModelConsts* mc = sets + s * consts_per_set;
+    SL_PRIVATE_CONSTS(mc, sets + s * consts_per_set);   // see common.cl's SL_CONSTS
     const sl_v3 N = sl_v3_make(dirs[i], dirs[st + i], dirs[2 * st + i]);
     const sl_v3 L = sl_v3_make(dirs[3 * st + i], dirs[4 * st + i], dirs[5 * st + i]);
     const sl_v3 V = sl_v3_make(dirs[6 * st + i], dirs[7 * st + i], dirs[8 * st + i]);

@@ -6,13 +6,16 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
                               __global const float* restrict pz, __global const float* restrict nx,
                               __global const float* restrict ny, __global const float* restrict nz,
                               __global float* restrict out, const uint stride, const DeviceView view,
-                              __constant const ModelConsts* mc, __constant const DeviceLight* lights,
+                              __constant const ModelConsts* mc_arg, __constant const DeviceLight* lights_arg,
                               const float4 ambient, __global const float* restrict tab) {
     (void)tab;
     // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
     // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
     // lights, the model's c[]) under a condition, where PoCL's work-item loop cannot hoist them: vectorised,
     // each became a gather per fragment. size_t, not uint: a 32-bit index that may wrap makes px[i] a gather.
+    SL_PRIVATE_CONSTS(mc, mc_arg);   // the constants and lights as private copies: see common.cl's SL_CONSTS
+    DeviceLight lights[SL_NUM_LIGHTS];
+    for (int l = 0; l < SL_NUM_LIGHTS; ++l) lights[l] = lights_arg[l];
     const size_t i = get_global_id(0);
     const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
     const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
@@ -27,7 +30,7 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
         // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
         L.x = sl_after(L.x, r);
         const sl_rgb v = SL_EVAL_AT(N, L, V, P, mc);
-        __constant const float* rad = lights[l].radiance;
+        const float* rad = lights[l].radiance;
         r += (rad[0] * e) * v.r;
         g += (rad[1] * e) * v.g;
         b += (rad[2] * e) * v.b;

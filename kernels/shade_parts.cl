@@ -42,7 +42,7 @@ SL_INLINE float sl_finite_or_zero(float v) {
 // light's radiance and sets *L to the unit direction to it. Directional lights are unattenuated (factor 1);
 // point lights fall off with the inverse square of distance, optionally windowed to zero at `range` with
 // (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
-SL_INLINE float light_incident_v3(__constant const DeviceLight* li, sl_v3 P, sl_v3* L) {
+SL_INLINE float light_incident_v3(const DeviceLight* li, sl_v3 P, sl_v3* L) {
     const sl_v3 pos = sl_v3_make(li->pos_or_dir[0], li->pos_or_dir[1], li->pos_or_dir[2]);
     const float range = li->range;   // read before the branch: a load under it would not be hoisted (a gather)
     if (SL_ALL_DIRECTIONAL || li->type == 0.0f) {

@@ -75,8 +75,9 @@ const char* const kRawKernel = R"CL(
 #include "shade.cl"
 __kernel void eval_directions_raw(__global const float* restrict N_, __global const float* restrict L_,
                                   __global const float* restrict V_, __global const float* restrict P_,
-                                  __global float* restrict out, const uint n, __constant const ModelConsts* mc,
+                                  __global float* restrict out, const uint n, __constant const ModelConsts* mc_arg,
                                   __global const float* restrict tab) {
+    SL_PRIVATE_CONSTS(mc, mc_arg);   // as every kernel of kernels/ (common.cl's SL_CONSTS)
     const uint i = get_global_id(0);
     if (i >= n) return;
     const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);

@@ -61,7 +61,7 @@ SL_INLINE float Toon_Step(float x, float edge, float half_width) {
 // (a horizontal reduction over adjacent loads), which stops the loop vectoriser (toon ran 51 Mfrag/s, one
 // fragment at a time). So the sum is an fma chain (no reduction to match) and each step starts after the
 // previous one (common.cl's sl_after: no two steps are independent, so none can be bundled).
-SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const ToonConsts* k) {
+SL_INLINE float Toon_Diffuse(float NoL, float half_width, const ToonConsts* k) {
     const float s1 = Toon_Step(NoL, k->t1, half_width);
     const float s2 = Toon_Step(sl_after(NoL, s1), k->t2, half_width);
     const float s3 = Toon_Step(sl_after(NoL, s2), k->t3, half_width);
@@ -71,7 +71,7 @@ SL_INLINE float Toon_Diffuse(float NoL, float half_width, __constant const ToonC
 // Toon specular: three levels s0..s2 of the Blinn-Phong intensity x = max(0, NoH)^n with thresholds
 // u1 <= u2, s0 + (s1 - s0) Step(x, u1) + (s2 - s1) Step(x, u2).
 // ToonConsts: u1, u2, s0 and the level differences ds1, ds2 (host). Written as Toon_Diffuse, for the same reason.
-SL_INLINE float Toon_Specular(float x, float half_width, __constant const ToonConsts* k) {
+SL_INLINE float Toon_Specular(float x, float half_width, const ToonConsts* k) {
     const float s1 = Toon_Step(x, k->u1, half_width);
     const float s2 = Toon_Step(sl_after(x, s1), k->u2, half_width);
     return fma(k->ds2, s2, fma(k->ds1, s1, k->s0));
@@ -82,17 +82,17 @@ SL_INLINE float Toon_Specular(float x, float half_width, __constant const ToonCo
 // banded: banded Lambert, value = albedo * floor(max(0, NoL) * steps + 1/2) / steps.
 // BandedConsts: steps (whole number in [1, 256]), inv_steps = 1 / steps. Source: seed 001 (banded lighting), rule
 // corrected as above. Directional albedo: exactly 1 for albedo 1 (rounding is unbiased per band).
-SL_INLINE sl_rgb banded_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb banded_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
-    __constant const BandedConsts* k = SL_CONSTS(BandedConsts, mc);
+    const BandedConsts* k = SL_CONSTS(BandedConsts, mc);
     return sl_albedo_times(mc, Band_Round(sl_dot(N, L), k->steps, k->inv_steps));
 }
 
 // banded_seed001: value = albedo * (seed 001's bandedNdotL) with t = light_steps (whole number in
 // [1, 256]). BandedSeed001Consts: t, half_t = t / 2, t_256 = t / 256.
-SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
-    __constant const BandedSeed001Consts* k = SL_CONSTS(BandedSeed001Consts, mc);
+    const BandedSeed001Consts* k = SL_CONSTS(BandedSeed001Consts, mc);
     return sl_albedo_times(mc, Band_Seed001(sl_dot(N, L), k->t, k->half_t, k->t_256));
 }
 
@@ -103,10 +103,10 @@ SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __const
 // ToonConsts: n, half_width = width / 2, the levels. The highlight is gated by the light's side, an edge at NoL = 0 like the
 // others (hard: NoL >= 0; smoothed with the same width), and is 0 where H is undefined (L = -V).
 // Leaves out: energy conservation, reciprocity, outlines.
-SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const ToonConsts* k = SL_CONSTS(ToonConsts, mc);
+    const ToonConsts* k = SL_CONSTS(ToonConsts, mc);
     const float half_width = k->half_width;
     const float x = Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Toon_Diffuse(NoL, half_width, k),

@@ -145,17 +145,17 @@ SL_INLINE CT_Frame CT_frame(sl_v3 N, sl_v3 L, sl_v3 V) {
 }
 
 // Diffuse base plus the specular part; spec = F D G / NoV (or 0).
-SL_INLINE sl_rgb CT_value(float NoL, float spec, __constant const ModelConsts* mc) {
-    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+SL_INLINE sl_rgb CT_value(float NoL, float spec, const ModelConsts* mc) {
+    const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     return sl_diffuse_specular(mc, k->kd * fmax(NoL, 0.0f), k->ks * spec);
 }
 
 // ---- the models -----------------------------------------------------------------------------------------
 
 // cook_torrance: Beckmann D, Schlick F, V-groove G. The reference combination.
-SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
-    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+    const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Schlick(f.VoH, k->f0) * D_Beckmann(f.NoH2, f.NxH2, k->inv_m2, k->inv_pi_m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
@@ -164,9 +164,9 @@ SL_INLINE sl_rgb cook_torrance_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 }
 
 // cook_torrance_ggx: GGX (Trowbridge-Reitz) D in place of Beckmann; same F and G.
-SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
-    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+    const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Schlick(f.VoH, k->f0) * D_GGX(f.NoH2, f.NxH2, k->m2) *
                                         G_VGroove_over_NoV(f.NoL, f.NoV, f.NoH, f.VoH)
@@ -176,9 +176,9 @@ SL_INLINE sl_rgb cook_torrance_ggx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __co
 
 // cook_torrance_exact_fresnel: the exact dielectric Fresnel term (the 1982 paper's own F) in place of Schlick.
 SL_INLINE sl_rgb cook_torrance_exact_fresnel_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
-                                                  __constant const ModelConsts* mc) {
+                                                  const ModelConsts* mc) {
     (void)P;
-    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+    const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
     const float spec = f.specular ? F_Dielectric(f.VoH, k->inv_eta, k->one_minus_inv_eta2) *
                                         D_Beckmann(f.NoH2, f.NxH2, k->inv_m2, k->inv_pi_m2) *
@@ -188,9 +188,9 @@ SL_INLINE sl_rgb cook_torrance_exact_fresnel_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_
 }
 
 // cook_torrance_seed004: the slides' Schlick with theta read as the angle between H and V, in radians.
-SL_INLINE sl_rgb cook_torrance_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb cook_torrance_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
-    __constant const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
+    const CookTorranceConsts* k = SL_CONSTS(CookTorranceConsts, mc);
     const CT_Frame f = CT_frame(N, L, V);
     const float theta = atan2(sl_length(sl_sub(L, V)), sl_length(sl_add(L, V)));   // see F_SchlickSeedAngle
     const float spec = f.specular ? F_SchlickSeedAngle(theta, k->f0) *

@@ -33,20 +33,32 @@
 // that B(g) is held at 0 where its continued cubic falls below 0.
 SL_INLINE void Emp_splines(float g, __global const float* restrict tab, float* param, float* bright) {
     __global const EmpiricalSegment* seg = (__global const EmpiricalSegment*)tab;
-    float x = seg[0].start, p0 = seg[0].param[0], p1 = seg[0].param[1], p2 = seg[0].param[2], p3 = seg[0].param[3];
-    float b0 = seg[0].bright[0], b1 = seg[0].bright[1], b2 = seg[0].bright[2], b3 = seg[0].bright[3];
+    // The first segment's values pass through sl_after (the identity: the host refuses a non-finite table), so
+    // that no select below is between two loads: LLVM rewrites such a select into a load from a selected address,
+    // a gather per fragment, which the loop vectoriser's cost model rejects on AVX2 hosts (pthread-haswell). The
+    // sl_after is the same for every fragment and is hoisted out of the work-item loop.
+    const float a = seg[0].start;
+    float x = a, p0 = sl_after(seg[0].param[0], a), p1 = sl_after(seg[0].param[1], a);
+    float p2 = sl_after(seg[0].param[2], a), p3 = sl_after(seg[0].param[3], a);
+    float b0 = sl_after(seg[0].bright[0], a), b1 = sl_after(seg[0].bright[1], a);
+    float b2 = sl_after(seg[0].bright[2], a), b3 = sl_after(seg[0].bright[3], a);
 #pragma unroll
     for (int j = 1; j < SL_EMP_SCAN; ++j) {
-        const int in = g >= seg[j].start;
-        x = in ? seg[j].start : x;
-        p0 = in ? seg[j].param[0] : p0;
-        p1 = in ? seg[j].param[1] : p1;
-        p2 = in ? seg[j].param[2] : p2;
-        p3 = in ? seg[j].param[3] : p3;
-        b0 = in ? seg[j].bright[0] : b0;
-        b1 = in ? seg[j].bright[1] : b1;
-        b2 = in ? seg[j].bright[2] : b2;
-        b3 = in ? seg[j].bright[3] : b3;
+        // every value loaded before the choice: a load inside `in ? load : x` is conditional code, which cannot be
+        // hoisted out of the work-item loop
+        const float sj = seg[j].start, q0 = seg[j].param[0], q1 = seg[j].param[1], q2 = seg[j].param[2];
+        const float q3 = seg[j].param[3], c0 = seg[j].bright[0], c1 = seg[j].bright[1], c2 = seg[j].bright[2];
+        const float c3 = seg[j].bright[3];
+        const int in = g >= sj;
+        x = in ? sj : x;
+        p0 = in ? q0 : p0;
+        p1 = in ? q1 : p1;
+        p2 = in ? q2 : p2;
+        p3 = in ? q3 : p3;
+        b0 = in ? c0 : b0;
+        b1 = in ? c1 : b1;
+        b2 = in ? c2 : b2;
+        b3 = in ? c3 : b3;
     }
     const float t = g - x;
     *param = fma(t, fma(t, fma(t, p3, p2), p1), p0);
@@ -74,7 +86,7 @@ SL_INLINE float lunar_lambert_empirical_pho(sl_pho g, __global const float* rest
 
 // The catalogue's entry points, with the table: value = albedo * law(photometric quantities of N, L, V).
 #define EMP_CATALOGUE_EVAL(model)                                                                              \
-    SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc,       \
+    SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc,       \
                                   __global const float* restrict tab) {                                       \
         (void)P;                                                                                               \
         return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), tab));                               \

@@ -15,13 +15,13 @@
 #include SL_CHILD0_HEADER
 #include SL_CHILD1_HEADER
 
-SL_INLINE float Gradient_Weight(sl_v3 P, __constant const ModelConsts* mc) {
-    __constant const GradientConsts* k = SL_CONSTS(GradientConsts, mc);
+SL_INLINE float Gradient_Weight(sl_v3 P, const ModelConsts* mc) {
+    const GradientConsts* k = SL_CONSTS(GradientConsts, mc);
     const sl_v3 g = sl_v3_make(k->gx, k->gy, k->gz);
     return 0.5f + 0.5f * cos(sl_dot(P, g) * k->wavenumber + k->phase);
 }
 
-SL_INLINE sl_rgb gradient_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb gradient_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     const float t = Gradient_Weight(P, mc);
     return sl_rgb_mix(SL_CHILD0_EVAL(N, L, V, P, mc + 1), SL_CHILD1_EVAL(N, L, V, P, mc + 2), t);
 }

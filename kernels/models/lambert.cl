@@ -7,7 +7,7 @@
 
 SL_INLINE float Fd_Lambert_cos(float NoL) { return fmax(NoL, 0.0f); }
 
-SL_INLINE sl_rgb lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     return sl_albedo_times(mc, Fd_Lambert_cos(sl_dot(N, L)));
 }

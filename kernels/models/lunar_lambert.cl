@@ -18,13 +18,13 @@
 #include "planetary.cl"
 
 // lommel_seeliger: 2 mu0 / (mu0 + mu). No parameters.
-SL_INLINE float lommel_seeliger_pho(sl_pho g, __constant const ModelConsts* mc) {
+SL_INLINE float lommel_seeliger_pho(sl_pho g, const ModelConsts* mc) {
     (void)mc;
     return Pho_visible(g) ? Pho_LommelSeeliger(g.mu0, g.mu) : 0.0f;
 }
 
 // lunar_lambert: mu0 ((1 - L) + 2 L / (mu0 + mu)). LunarLambertConsts: L.
-SL_INLINE float lunar_lambert_pho(sl_pho g, __constant const ModelConsts* mc) {
+SL_INLINE float lunar_lambert_pho(sl_pho g, const ModelConsts* mc) {
     return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, SL_CONSTS(LunarLambertConsts, mc)->L) : 0.0f;
 }
 

@@ -78,10 +78,10 @@ SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, 
 // albedo is Minnaert's B0 (the value at NoL = NoV = 1), not a hemispherical albedo: the directional albedo is
 // 2/(k+1) * NoV^(k-1), so neither energy-conserving for k < 1 nor normalised. Leaves out: phase dependence
 // of k and B0 (planetary fits use k(alpha)); opposition surge; limb guard below NoL or NoV = 1e-3 (above).
-SL_INLINE sl_rgb minnaert_1941_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_1941_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
-    __constant const MinnaertConsts* k = SL_CONSTS(MinnaertConsts, mc);
+    const MinnaertConsts* k = SL_CONSTS(MinnaertConsts, mc);
     const float f = NoL * Minnaert_limb(NoL, NoV, k->k_minus_1, k->eps, k->inv_eps);
     return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }
@@ -92,7 +92,7 @@ SL_INLINE sl_rgb minnaert_1941_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 // Parameter: k ("_Roughness") in [-1, 1] (MinnaertUnityConsts: k); k = 0 is Lambert. Reciprocal for k >= 0 only (the clip
 // is not symmetric). No limb guard needed: the saturate bounds it. NoL <= 0 returns 0 explicitly, where the
 // seed's 0 * pow(0, k < 0) = 0 * inf would be NaN. Leaves out: 1/pi, any normalisation.
-SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = fmax(sl_dot(N, L), 0.0f), NoV = fmax(sl_dot(N, V), 0.0f);
     const float f = Fd_MinnaertUnity(NoL, NoV, SL_CONSTS(MinnaertUnityConsts, mc)->k);
@@ -106,12 +106,12 @@ SL_INLINE sl_rgb minnaert_unity_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __const
 //   nv = max(NoV, 0) (Blender clamps, it does not return 0 behind the limb); 0 for NoL <= 0.
 // Parameter: darkness d in [0, 2] (MinnaertBlenderConsts: d_minus_1 = d - 1, real_branch = 1 for d <= 1 else 0); d = 1 is Lambert.
 // Reciprocal for d <= 1 only. Leaves out: 1/pi, normalisation (d < 1 brightens up to 10x Lambert).
-SL_INLINE sl_rgb minnaert_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float nv = fmax(NoV, 0.0f);
     const float one_minus_nv = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
-    __constant const MinnaertBlenderConsts* k = SL_CONSTS(MinnaertBlenderConsts, mc);
+    const MinnaertBlenderConsts* k = SL_CONSTS(MinnaertBlenderConsts, mc);
     const float factor = k->real_branch != 0.0f ? Minnaert_blender_real(NoL, nv, k->d_minus_1)
                                                 : Minnaert_blender_nvidia(one_minus_nv, k->d_minus_1);
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * factor : 0.0f);
@@ -122,11 +122,11 @@ SL_INLINE sl_rgb minnaert_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __con
 // Parameter: k in [0, 1] (MinnaertBConsts: k, one_minus_k = 1 - k). No k gives Lambert (k = 1 gives NoL^2); for k < 1 the
 // value is 0 where the surface faces the viewer (NoV = 1) and largest at the limb: a velvet/rim look, not a
 // lunar law. Never brighter than Lambert (energy-conserving), not reciprocal. Leaves out: 1/pi.
-SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
     const float one_minus_NoV = NoV > 0.0f ? Minnaert_one_minus_NoV(N, V) : 1.0f;
-    __constant const MinnaertBConsts* k = SL_CONSTS(MinnaertBConsts, mc);
+    const MinnaertBConsts* k = SL_CONSTS(MinnaertBConsts, mc);
     const float f = MinnaertB_factor_times(NoL, NoL, one_minus_NoV, k->k, k->one_minus_k);   // NoL * factor
     return sl_albedo_times(mc, NoL > 0.0f ? f : 0.0f);
 }
@@ -137,10 +137,10 @@ SL_INLINE sl_rgb minnaert_b_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant 
 // reciprocity, the white-furnace value for a viewer on the normal); at other angles it is albedo * mu^(k-1)
 // (above albedo for k < 1, below for k > 1). Parameter: k in [0, 2] (MinnaertNormalizedConsts: k_minus_1, eps,
 // inv_eps as minnaert_1941, norm = (k+1)/2). Same limb guard as minnaert_1941. k = 1 is Lambert.
-SL_INLINE sl_rgb minnaert_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb minnaert_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L), NoV = sl_dot(N, V);
-    __constant const MinnaertNormalizedConsts* k = SL_CONSTS(MinnaertNormalizedConsts, mc);
+    const MinnaertNormalizedConsts* k = SL_CONSTS(MinnaertNormalizedConsts, mc);
     const float f = k->norm * NoL * Minnaert_limb(NoL, NoV, k->k_minus_1, k->eps, k->inv_eps);
     return sl_albedo_times(mc, NoL > 0.0f && NoV > 0.0f ? f : 0.0f);
 }

@@ -85,14 +85,14 @@ SL_INLINE float Fd_OrenNayar(float A, float B, float cos_dphi, float sin_alpha_t
     return A + B * fmax(cos_dphi, 0.0f) * sin_alpha_tan_beta;
 }
 
-SL_INLINE sl_rgb oren_nayar_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float NoVc = fmax(NoV, 0.0f);                              // below horizon: grazing view
     const float sin_i = ON_sin_theta(N, L);
     const float sin_r = NoV >= 0.0f ? ON_sin_theta(N, V) : 1.0f;    // below horizon: theta_r = 90 deg
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = Fd_OrenNayar(k->A, k->B, ON_cos_dphi(N, L, V, NoL, NoV),
                                  ON_sin_alpha_tan_beta(NoL, NoVc, sin_i, sin_r));
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
@@ -106,12 +106,12 @@ SL_INLINE float Fd_OrenNayar_st(float A, float B, float s, float NoL, float NoVc
     return A + B * fmax(s, 0.0f) / fmax(NoL, NoVc);
 }
 
-SL_INLINE sl_rgb oren_nayar_st_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_st_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float s = ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V));
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = Fd_OrenNayar_st(k->A, k->B, s, NoL, fmax(NoV, 0.0f));
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -152,7 +152,7 @@ SL_INLINE float ON_full_channel(float rho, float NoL, float L1, float L2) {
     return NoL > 0.0f ? NoL * (rho * L1 + rho * rho * L2) : 0.0f;
 }
 
-SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
@@ -173,7 +173,7 @@ SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __cons
     const float tbp = 2.0f * beta * SL_INV_PI;
     const float tan_beta = sin_b / cos_b;
     const float tan_half = (sin_a + sin_b) / (cos_a + cos_b);
-    __constant const OrenNayarFullConsts* k = SL_CONSTS(OrenNayarFullConsts, mc);
+    const OrenNayarFullConsts* k = SL_CONSTS(OrenNayarFullConsts, mc);
     const float L1 = k->C1 + cos_dphi * ON_C2(k->C2_scale, cos_dphi, sin_a, tbp) * tan_beta +
                      (1.0f - fabs(cos_dphi)) * ON_C3(k->C3_scale, alpha, beta) * tan_half;
     const float L2 = ON_L2(k->L2_scale, cos_dphi, tbp);
@@ -194,17 +194,17 @@ SL_INLINE sl_rgb oren_nayar_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __cons
 // One channel, rho NoL (on.x + rho on.y + on.z s) for albedo rho. Guard: NoL = 0 (saturated) with NoV = 0 and
 // LoV > 0 divides by 0; the seed's own factor NoL makes the value 0 there, which is what is returned (without
 // 0 * inf).
-SL_INLINE float ON_seed001_channel(float rho, float NoL, float s, __constant const OrenNayarAlbedoConsts* k) {
+SL_INLINE float ON_seed001_channel(float rho, float NoL, float s, const OrenNayarAlbedoConsts* k) {
     return NoL > 0.0f ? rho * NoL * (k->A + rho * k->A_rho + k->B * s) : 0.0f;
 }
 
-SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_saturate(sl_dot(N, L));
     const float NoV = sl_saturate(sl_dot(N, V));
     float s = sl_saturate(sl_dot(L, V)) - NoL * NoV;
     s /= s <= 0.0f ? 1.0f : fmax(NoL, NoV);   // max(NoL, NoV) >= NoL > 0 wherever the value is kept
-    __constant const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
+    const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
     return sl_rgb_make(ON_seed001_channel(mc->albedo[0], NoL, s, k),
                        ON_seed001_channel(mc->albedo[1], NoL, s, k),
                        ON_seed001_channel(mc->albedo[2], NoL, s, k));
@@ -221,10 +221,12 @@ SL_INLINE sl_rgb oren_nayar_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // sin(acos(x)) = sqrt(1 - x^2) and tan(acos(x)) = sqrt(1 - x^2) / x exactly: used instead of the acos/sin/tan
 // chain, because in float acos(x) for x < 4e-8 rounds to float(pi/2) > pi/2, whose tan is -2.3e7: NoL * tan
 // then turns a grazing light into a large negative value (tests show it). Constants: OrenNayarConsts (A, B).
-SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_saturate(sl_dot(N, L));
-    const float NoV = sl_saturate(sl_dot(N, V));
+    // NoV after NoL (sl_after): the two clamped dot products side by side are packed into <2 x float> on AVX2
+    // hosts (pthread-haswell), which stops the work-item loop vectoriser
+    const float NoV = sl_saturate(sl_dot(N, sl_v3_make(sl_after(V.x, NoL), V.y, V.z)));
     // Each second one of the two tangential lengths and of the two sines after the first (sl_after): the pairs
     // are the same computation on two inputs, which LLVM's SLP vectoriser would pack (common.cl says why not).
     const float len_v = sl_length(sl_sub(V, sl_scale(N, NoV)));
@@ -234,7 +236,7 @@ SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float sin_alpha = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f));
     const float cos_b_after = sl_after(cos_b, sin_alpha);
     const float tan_beta = sqrt(fmax(1.0f - cos_b_after * cos_b_after, 0.0f)) / cos_b;
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = k->A + k->B * fmax(PhiR, 0.0f) * sin_alpha * tan_beta;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -248,7 +250,7 @@ SL_INLINE sl_rgb oren_nayar_seed003_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // where the paper has cos(dphi): the B term is scaled by sin(theta_i) sin(theta_r) <= 1. Angles from the raw
 // dot products (a view below the horizon gives angle(N, V) > 90 deg, as the slides' formulas do).
 // sin(alpha), tan(beta) from the cosines (exact; see seed 003 for why not acos/tan). Constants: OrenNayarConsts.
-SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
@@ -256,7 +258,7 @@ SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float cos_a = fmin(NoL, NoV);
     const float cos_b = fmax(NoL, NoV);   // >= NoL > 0 where used
     const float C = sqrt(fmax(1.0f - cos_a * cos_a, 0.0f)) * (sqrt(fmax(1.0f - cos_b * cos_b, 0.0f)) / cos_b);
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = k->A + k->B * fmax(gamma, 0.0f) * C;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -274,7 +276,7 @@ SL_INLINE sl_v3 ON_normalize_or_zero(sl_v3 v) {
     return sl_scale(v, d2 > 1e-30f ? rsqrt(d2) : 0.0f);
 }
 
-SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float nv = fmax(sl_dot(N, V), 0.0f);
@@ -287,7 +289,7 @@ SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
     const float t = fmax(sl_dot(Lt, Vt), 0.0f);
     const float a = fmax(lit_a, view_a);
     const float b = 0.95f * fmin(lit_a, view_a);
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = k->A + k->B * t * sin(a) * tan(b);
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -304,12 +306,12 @@ SL_INLINE sl_rgb oren_nayar_blender_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __c
 // This is "FON", the single-scattering lobe of EON. Constants: OrenNayarConsts (A = pi A, B = pi B).
 SL_INLINE float ON_s_over_t(float s, float NoL, float NoVc) { return s > 0.0f ? s / fmax(NoL, NoVc) : s; }
 
-SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    __constant const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
+    const OrenNayarConsts* k = SL_CONSTS(OrenNayarConsts, mc);
     const float f = k->A + k->B * st;
     return sl_albedo_times(mc, NoL > 0.0f ? NoL * f : 0.0f);
 }
@@ -320,15 +322,15 @@ SL_INLINE sl_rgb oren_nayar_fujii_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __con
 // The albedo inside A is the full model's interreflection term with its angular factor dropped. Not energy
 // conserving (Fujii: violated for albedo > 0.97). Constants: OrenNayarAlbedoConsts: pi A = A + albedo A_rho, pi B = B.
 // One channel, rho NoL (x + rho y + z s/t) for albedo rho; 0 for NoL <= 0.
-SL_INLINE float ON_fujii_full_channel(float rho, float NoL, float st, __constant const OrenNayarAlbedoConsts* k) {
+SL_INLINE float ON_fujii_full_channel(float rho, float NoL, float st, const OrenNayarAlbedoConsts* k) {
     return NoL > 0.0f ? rho * NoL * (k->A + rho * k->A_rho + k->B * st) : 0.0f;
 }
-SL_INLINE sl_rgb oren_nayar_fujii_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb oren_nayar_fujii_full_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
     const float st = ON_s_over_t(ON_s(sl_dot(L, V), NoL, NoV, ON_sin_theta(N, V)), NoL, fmax(NoV, 0.0f));
-    __constant const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
+    const OrenNayarAlbedoConsts* k = SL_CONSTS(OrenNayarAlbedoConsts, mc);
     return sl_rgb_make(ON_fujii_full_channel(mc->albedo[0], NoL, st, k),
                        ON_fujii_full_channel(mc->albedo[1], NoL, st, k),
                        ON_fujii_full_channel(mc->albedo[2], NoL, st, k));
@@ -366,7 +368,7 @@ SL_INLINE float E_FON_G_over_pi_approx(float mu) {
 }
 
 // One channel of EON's value, NoL (f_ss + f_ms) for albedo rho (st = s/t, g_i, g_o = G/pi at NoL, NoV).
-SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o, __constant const EonConsts* k) {
+SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o, const EonConsts* k) {
     const float AF = k->AF, r = k->r, Ebar = k->Ebar, k_ms = k->k_ms, c1 = k->c1;
     const float f_ss = rho * (AF * (1.0f + r * st));
     // 1 - albedo (1 - Ebar) >= Ebar > 0.83 for albedo <= 1; the floor only matters for albedo > 5.9, where the
@@ -381,16 +383,16 @@ SL_INLINE float EON_channel(float rho, float NoL, float st, float g_i, float g_o
     return fmax(NoL, 0.0f) * (f_ss + f_ms);
 }
 
-SL_INLINE sl_rgb EON_value(float NoL, float NoV, float s, float g_i, float g_o, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb EON_value(float NoL, float NoV, float s, float g_i, float g_o, const ModelConsts* mc) {
     // NoL <= 0: the value is 0 (EON_channel's factor); st is set to 0 there, as s / t divides by 0 when NoV <= 0 too.
     const float st = NoL > 0.0f ? ON_s_over_t(s, NoL, fmax(NoV, 0.0f)) : 0.0f;
-    __constant const EonConsts* k = SL_CONSTS(EonConsts, mc);
+    const EonConsts* k = SL_CONSTS(EonConsts, mc);
     return sl_rgb_make(EON_channel(mc->albedo[0], NoL, st, g_i, g_o, k),
                        EON_channel(mc->albedo[1], NoL, st, g_i, g_o, k),
                        EON_channel(mc->albedo[2], NoL, st, g_i, g_o, k));
 }
 
-SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);
@@ -403,7 +405,7 @@ SL_INLINE sl_rgb eon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const M
 
 // EON with the paper's fitted E_FON (its E_FON_approx): cheaper (no acos, sqrt); the white furnace deviates
 // from 1 by the fit's error (docs).
-SL_INLINE sl_rgb eon_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb eon_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float NoV = sl_dot(N, V);

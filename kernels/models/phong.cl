@@ -51,11 +51,11 @@ SL_INLINE float Spec_Gate(float NoL) { return NoL > 0.0f ? 1.0f : 0.0f; }
 // phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, RoV)^n
 // PhongConsts: n in [0, 10000], ks in [0, 10]. Leaves out: energy conservation (the lobe is not
 // normalised and carries no NoL), reciprocity, Fresnel. Not reciprocal: value / NoL has RoV^n / NoL.
-SL_INLINE sl_rgb phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
-    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
     const float spec = k->ks * Spec_Gate(NoL) * Spec_Power(RoV, k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
@@ -63,11 +63,11 @@ SL_INLINE sl_rgb phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const
 // phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, RoV)^(gloss / 4)
 // Seed 001 exactly: the highlight is not gated, so a light below the horizon lights up points where
 // RoV > 0. PhongConsts: n = gloss / 4 (host), ks = specular_power.
-SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
-    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), k->ks * Spec_Power(RoV, k->n));
 }
 
@@ -77,12 +77,12 @@ SL_INLINE sl_rgb phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __consta
 // The lobe's directional albedo is exactly 1 at V = N and less elsewhere, so the model conserves
 // energy for albedo, specular <= 1 and any ks in [0, 1] (Lafortune's kd + ks <= 1 built in).
 // Reciprocal (value / NoL is symmetric). PhongNormalizedConsts: n, kd = 1 - ks, lobe_scale = ks (n + 2) / 2 (host).
-SL_INLINE sl_rgb phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
     const float RoV = Phong_RoV(NoL, sl_dot(N, V), sl_dot(L, V));
     const float cosine = Fd_Lambert_cos(NoL);
-    __constant const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
+    const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
     return sl_diffuse_specular(mc, k->kd * cosine, k->lobe_scale * Spec_Power(RoV, k->n) * cosine);
 }
 
@@ -91,10 +91,10 @@ SL_INLINE sl_rgb phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __con
 // blinn_phong: value = albedo * max(0, NoL) + ks * specular * [NoL > 0] * max(0, NoH)^n
 // PhongConsts: n in [0, 10000], ks in [0, 10]. (Seed 001 names the N.H variable "NdotV".)
 // NoH^(4n) has about the width of RoV^n near the peak, hence the seed's gloss vs gloss / 4.
-SL_INLINE sl_rgb blinn_phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb blinn_phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
     const float spec = k->ks * Spec_Gate(NoL) * Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
@@ -102,10 +102,10 @@ SL_INLINE sl_rgb blinn_phong_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant
 // blinn_phong_seed001: value = albedo * max(0, NoL) + specular_power * specular * max(0, NoH)^gloss
 // Seed 001 exactly (ungated). PhongConsts: n = gloss, ks = specular_power.
 SL_INLINE sl_rgb blinn_phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
-                                          __constant const ModelConsts* mc) {
+                                          const ModelConsts* mc) {
     (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
+    const PhongConsts* k = SL_CONSTS(PhongConsts, mc);
     const float spec = k->ks * Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Fd_Lambert_cos(NoL), spec);
 }
@@ -117,10 +117,10 @@ SL_INLINE sl_rgb blinn_phong_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
 //   value = (1 - ks) * albedo * max(0, NoL) + ks * specular * K_n * max(0, NoH)^n * max(0, NoL).
 // PhongNormalizedConsts: n, kd = 1 - ks, lobe_scale = ks K_n (host). Reciprocal (H is symmetric in L, V).
 SL_INLINE sl_rgb blinn_phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
-                                             __constant const ModelConsts* mc) {
+                                             const ModelConsts* mc) {
     (void)P;
     const float cosine = Fd_Lambert_cos(sl_dot(N, L));
-    __constant const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
+    const PhongNormalizedConsts* k = SL_CONSTS(PhongNormalizedConsts, mc);
     const float lobe = Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, k->kd * cosine, k->lobe_scale * lobe * cosine);
 }
@@ -130,7 +130,7 @@ SL_INLINE sl_rgb blinn_phong_normalized_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
 // It is NOT energy conserving: it exceeds the exact K_n for every n > 0 and the lobe's directional
 // albedo at V = N reaches 1.074 at n = 11 (measured in tests/test_phong.cpp). lobe_scale = ks (n + 8) / 8.
 SL_INLINE sl_rgb blinn_phong_normalized_approx_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P,
-                                                    __constant const ModelConsts* mc) {
+                                                    const ModelConsts* mc) {
     return blinn_phong_normalized_eval(N, L, V, P, mc);   // same form; only the host's lobe_scale differs
 }
 

@@ -49,7 +49,9 @@ SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     const sl_v3 nl = sl_cross(N, L);
     g.mu0 = sl_dot(N, L);
     g.sin_i = sl_length(nl);
-    const sl_v3 Va = sl_v3_make(sl_after(V.x, g.sin_i), V.y, V.z);
+    // (every component of V after a term of L: with only V.x after sin i, the two dot products N.L and N.V are still
+    // packed into <2 x float> on AVX2 hosts, pthread-haswell)
+    const sl_v3 Va = sl_v3_make(sl_after(V.x, g.sin_i), sl_after(V.y, g.mu0), sl_after(V.z, g.mu0));
     const sl_v3 nv = sl_cross(N, Va);
     g.mu = sl_dot(N, Va);
     g.sin_e = sl_length(nv);
@@ -121,8 +123,12 @@ SL_INLINE float Pho_McEwen_L(float g_deg, float m1, float m2, float m3) {
 // to the empirical K(g) law, whose K may be < 1): mu0 (mu0 mu)^(K-1). eps = 1e-3 for K < 1, else no guard.
 SL_INLINE float Pho_Minnaert(float mu0, float mu, float k) {
     const float eps = k < 1.0f ? 1.0e-3f : 0.0f;
-    const float taper = (mu0 < eps ? mu0 / eps : 1.0f) * (mu < eps ? mu / eps : 1.0f);
-    return mu0 * pow(fmax(mu0, eps) * fmax(mu, eps), k - 1.0f) * taper;
+    const float taper0 = mu0 < eps ? mu0 / eps : 1.0f;
+    // mu's half after mu0's (sl_after, on a finite dependence): side by side they are packed into <2 x float> on
+    // AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
+    const float mu_after = sl_after(mu, fmin(fabs(taper0), 1.0f));
+    const float taper = taper0 * (mu_after < eps ? mu_after / eps : 1.0f);
+    return mu0 * pow(fmax(mu0, eps) * fmax(mu_after, eps), k - 1.0f) * taper;
 }
 
 // ---- Hapke's terms (Hapke 1981 JGR 86:3039; 1984 Icarus 59:41; 1986 Icarus 67:264; Hapke 1993, ch. 8-12) ----
@@ -147,7 +153,7 @@ SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, floa
 // ISIS's two-term Henyey-Greenstein phase function (HapkeHen):
 //   P(g) = (1 - c) (1 - b^2) / (1 + b^2 + 2 b cos g)^(3/2) + c (1 - b^2) / (1 + b^2 - 2 b cos g)^(3/2),
 // b = Hg1, c = Hg2. HapkeHG2Consts: a = (1 - |b|)^2, two_abs_b = 2|b|, b_positive = 1 if b >= 0, 1 - b^2, c, 1 - c.
-SL_INLINE float Hapke_P_HG2(float t, __constant const HapkeHG2Consts* hg) {
+SL_INLINE float Hapke_P_HG2(float t, const HapkeHG2Consts* hg) {
     const float a = hg->a, two_abs_b = hg->two_abs_b, b_pos_flag = hg->b_positive, one_minus_b2 = hg->one_minus_b2;
     const float c = hg->c, one_minus_c = hg->one_minus_c;
     const float opc = Pho_one_plus_cos_g(t), omc = Pho_one_minus_cos_g(t);
@@ -231,7 +237,10 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     const float den_ei = sl_after(om1i, after_ie) + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - ...
     const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
     const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
-    const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f), mue = fmax(i_le_e ? mue_ie : mue_ei, 0.0f);
+    // mue after mu0e (sl_after, with a finite dependence: fmin(NaN or Inf, 1) is a number): the two floors side by
+    // side are packed into <2 x float> on AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
+    const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f);
+    const float mue = fmax(sl_after(i_le_e ? mue_ie : mue_ei, fmin(mu0e, 1.0f)), 0.0f);
     const float q = i_le_e ? chi * g.mu0 / eta_i : chi * g.mu / eta_e;
     // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
     const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (one_minus_f + (1.0f - one_minus_f) * q);
@@ -245,7 +254,7 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
 // h = 0), inv_h = 1/h (0 if h = 0), rough = 1 for a rough surface (theta > 0), else the smooth law (ISIS: theta <= 0).
 // Every constant is read before any choice is made: a load under a condition is one PoCL's vectorised work-item
 // loop cannot hoist (kernels/shade.cl), and both laws are formed and one selected.
-SL_INLINE float Hapke_value(sl_pho g, float P, __constant const HapkeConsts* k) {
+SL_INLINE float Hapke_value(sl_pho g, float P, const HapkeConsts* k) {
     const float w_over_4 = k->w_over_4, gamma = k->gamma, b0 = k->b0, inv_h = k->inv_h, rough_flag = k->rough;
     const float chi = k->chi, tan_t = k->tan_t, k1 = k->k1, k2 = k->k2;
     const float B = Hapke_B(g.tan_half_g, b0, inv_h);
@@ -304,8 +313,8 @@ SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K
 // kernels/models/lunar_lambert.cl.)
 
 // lunar_lambert_mcewen: Lunar-Lambert with McEwen's L(g). McEwenConsts: m1, m2, m3.
-SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts* mc) {
-    __constant const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
+SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, const ModelConsts* mc) {
+    const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
     const float L = Pho_McEwen_L(Pho_phase_deg(g), k->m1, k->m2, k->m3);
     return Pho_visible(g) ? Pho_LunarLambert(g.mu0, g.mu, L) : 0.0f;
 }
@@ -315,8 +324,8 @@ SL_INLINE float lunar_lambert_mcewen_pho(sl_pho g, __constant const ModelConsts*
 // host); 0 where r <= 0 (ISIS). r is floored at 1e-3 (r_floor), capping the ratio at 1000 R30 (ISIS divides by r as it
 // is, and the ratio grows without bound at the terminator); the floor acts where mu0 < ~1e-3 (i > 89.94 deg) or
 // where McEwen's L(g) < 0 brings r itself near 0.
-SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelConsts* mc) {
-    __constant const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
+SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, const ModelConsts* mc) {
+    const McEwenConsts* k = SL_CONSTS(McEwenConsts, mc);
     const float r30 = k->r30, r_floor = k->r_floor;
     const float L = Pho_McEwen_L(Pho_phase_deg(g), k->m1, k->m2, k->m3);
     const float r = Pho_LunarLambert(g.mu0, g.mu, L);
@@ -324,15 +333,15 @@ SL_INLINE float lunar_lambert_mcewen_ratio_pho(sl_pho g, __constant const ModelC
 }
 
 // hapke_hen: Hapke with the two-term Henyey-Greenstein phase function (ISIS HapkeHen).
-SL_INLINE float hapke_hen_pho(sl_pho g, __constant const ModelConsts* mc) {
-    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+SL_INLINE float hapke_hen_pho(sl_pho g, const ModelConsts* mc) {
+    const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
     const float v = Hapke_value(g, Hapke_P_HG2(g.tan_half_g, &k->phase.hg2), k);
     return Pho_visible(g) ? v : 0.0f;
 }
 
 // hapke_leg: Hapke with the Legendre phase function (ISIS HapkeLeg). HapkeConsts.phase.legendre: b (Bh), c (Ch).
-SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
-    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+SL_INLINE float hapke_leg_pho(sl_pho g, const ModelConsts* mc) {
+    const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
     const float bh = k->phase.legendre.b, ch = k->phase.legendre.c;
     const float v = Hapke_value(g, Hapke_P_Legendre(g.cos_g, bh, ch), k);
     return Pho_visible(g) ? v : 0.0f;
@@ -342,8 +351,8 @@ SL_INLINE float hapke_leg_pho(sl_pho g, __constant const ModelConsts* mc) {
 // 1986 shadow-hiding surge, the 1984 roughness and ISIS's two-term Henyey-Greenstein P(g) (phase.hg2 as hapke_hen).
 // HapkeConsts: w_over_4 unused (w is read), b0 .. k2 as hapke_hen, w, r0, K, bc0 = B_C0, inv_hc = 1/h_C (0: no
 // coherent backscatter).
-SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
-    __constant const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
+SL_INLINE float hapke_2012_pho(sl_pho g, const ModelConsts* mc) {
+    const HapkeConsts* k = SL_CONSTS(HapkeConsts, mc);
     const float b0 = k->b0, inv_h = k->inv_h, rough_flag = k->rough;
     const float chi = k->chi, tan_t = k->tan_t, k1 = k->k1, k2 = k->k2;
     const float w = k->w, r0 = k->r0, K = k->K, bc0 = k->bc0, inv_hc = k->inv_hc;
@@ -359,7 +368,7 @@ SL_INLINE float hapke_2012_pho(sl_pho g, __constant const ModelConsts* mc) {
 
 // ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------
 #define PHO_CATALOGUE_EVAL(model)                                                                             \
-    SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {     \
+    SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {     \
         (void)P;                                                                                              \
         return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), mc));                                \
     }

@@ -48,7 +48,7 @@ SL_INLINE float Fd_Wrap(float NoL, float w, float inv_sq) { return sl_saturate((
 // half_lambert: value = albedo * ((NoL + 1) / 2)^2, NoL unclamped (Valve's form; the reference).
 // Parameters: none. Leaves out: any physical basis (not reciprocal, directional albedo 7/6 over the
 // hemisphere, 4/3 over the sphere).
-SL_INLINE sl_rgb half_lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb half_lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
     return sl_albedo_times(mc, Fd_HalfLambert(NoL));
@@ -57,7 +57,7 @@ SL_INLINE sl_rgb half_lambert_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constan
 // half_lambert_seed001: value = albedo * ((max(0, NoL) + 1) / 2)^2 -- seed 001's code, which clamps NoL
 // BEFORE the half-Lambert mapping, so every back-facing point gets a flat 0.25 instead of fading to 0.
 // Kept as a named variant; the deviation (up to 0.25 * albedo at NoL = -1) is measured in the tests.
-SL_INLINE sl_rgb half_lambert_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb half_lambert_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
     return sl_albedo_times(mc, Fd_HalfLambert(fmax(NoL, 0.0f)));
@@ -65,29 +65,29 @@ SL_INLINE sl_rgb half_lambert_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, _
 
 // wrap: value = albedo * max(0, NoL * a + (1 - a))^2, NoL unclamped, a = wrap_value in [0.5, 1]
 // (WrapConsts: a, one_minus_a = 1 - a). a = 0.5: half_lambert; a = 1: max(0, NoL)^2 (narrower than Lambert).
-SL_INLINE sl_rgb wrap_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
+    const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
     return sl_albedo_times(mc, Fd_WrapSquared(NoL, k->a, k->one_minus_a));
 }
 
 // wrap_seed001: value = albedo * (max(0, NoL) * a + (1 - a))^2 -- the seed's code applied to the wrap
 // formula: NoL clamped first, so the back side gets a flat (1 - a)^2. (WrapConsts, as wrap.)
-SL_INLINE sl_rgb wrap_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
+    const WrapConsts* k = SL_CONSTS(WrapConsts, mc);
     return sl_albedo_times(mc, Fd_WrapSquared(fmax(NoL, 0.0f), k->a, k->one_minus_a));
 }
 
 // wrap_energy: value = albedo * saturate((NoL + w) / (1 + w)^2) (Filament's Fd_Wrap; WrapEnergyConsts: w,
 // inv_sq = 1 / (1 + w)^2). Directional albedo over the sphere of light directions: exactly 1 for every w;
 // over the upper hemisphere (1 + 2w) / (1 + w)^2 <= 1. Leaves out: reciprocity, any V dependence.
-SL_INLINE sl_rgb wrap_energy_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, __constant const ModelConsts* mc) {
+SL_INLINE sl_rgb wrap_energy_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)V; (void)P;
     const float NoL = sl_dot(N, L);
-    __constant const WrapEnergyConsts* k = SL_CONSTS(WrapEnergyConsts, mc);
+    const WrapEnergyConsts* k = SL_CONSTS(WrapEnergyConsts, mc);
     return sl_albedo_times(mc, Fd_Wrap(NoL, k->w, k->inv_sq));
 }
 
