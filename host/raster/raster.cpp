@@ -995,16 +995,30 @@ std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
     return at;
 }
 
+// The eleven fragment arrays sized for n fragments. Growing an array value-initialises its new elements (and
+// faults in fresh pages): a pass over 44 bytes per fragment that, on one thread, kept the other idle, so the
+// threads take every threads-th array (each vector is one thread's alone).
+void size_fragments(FragmentBuffer& fb, std::size_t n, int threads) {
+    std::vector<float>* const f[] = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2};
+    std::vector<std::int32_t>* const i[] = {&fb.pixel, &fb.triangle};
+    constexpr int kArrays = 11;
+    bool grows = false;
+    for (const std::vector<float>* v : f) grows = grows || v->size() < n;
+    for (const std::vector<std::int32_t>* v : i) grows = grows || v->size() < n;
+    const int workers = grows ? std::min(threads, kArrays) : 1;
+    run_parallel(workers, [&](int t) {
+        for (int k = t; k < kArrays; k += workers)
+            k < 9 ? size_for_frame(*f[k], n) : size_for_frame(*i[k - 9], n);
+    });
+}
+
 // 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer.
 void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, const SetupResult& s, const Tiling& g,
               const Scratch& scratch, int threads, FragmentBuffer& fb) {
     const std::vector<std::size_t> at = band_offsets(scratch.spans.get(), g);
     fb.width = g.width;
     fb.height = g.height;
-    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
-        size_for_frame(*v, at.back());
-    size_for_frame(fb.pixel, at.back());
-    size_for_frame(fb.triangle, at.back());
+    size_fragments(fb, at.back(), threads);
     const EmitContext ctx{&mesh, s.sv.get(), &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
                           g.height};
