@@ -787,16 +787,18 @@ struct LaneBlock {
     std::int32_t fix[kLanes];   // 1: the pixel needs emit_pixel's fallbacks
 };
 
-// Fragments of the kLanes pixels x = xs + i: the same operations as emit_pixel in the same order
-// (no fused multiply-adds: the host is built with -ffp-contract=off), one loop without branches that the
-// compiler vectorises.
+// Fragments of the Lanes pixels x = xs + i (lanes from Lanes on are left unset): the same operations as
+// emit_pixel in the same order (no fused multiply-adds: the host is built with -ffp-contract=off), one loop
+// without branches that the compiler vectorises. Lanes is kLanes, or 1 for the one-pixel runs of small
+// triangles, which a whole block would only slow down.
+template <int Lanes>
 LaneBlock emit_lanes(const RunView& v, int xs) {
     const double Y = v.Y, x0 = v.x0, ex = v.ex, ey = v.ey, ez = v.ez, fx = v.fx, fy = v.fy, fz = v.fz;
     const Affine q = v.q, P0 = v.P0, P1 = v.P1, P2 = v.P2, N0 = v.N0, N1 = v.N1, N2 = v.N2, B1 = v.B1, B2 = v.B2;
     const bool flip = v.flip;
     const std::int32_t tri = v.tri, first = v.row + xs;
     LaneBlock b;
-    for (int i = 0; i < kLanes; ++i) {
+    for (int i = 0; i < Lanes; ++i) {
         const double X = double(xs + i) + 0.5 - x0;
         const double s = q.at(X, Y);
         const double inv = 1.0 / s;
@@ -829,11 +831,11 @@ LaneBlock emit_lanes(const RunView& v, int xs) {
     return b;
 }
 
-// The first m lanes of `b` into slots o .. o + m of the run's arrays; Whole: all kLanes of them, a copy of
-// constant size (one vector store per array).
-template <bool Whole>
+// The first m lanes of `b` into slots o .. o + m of the run's arrays: M > 0 stores the constant count M (a copy
+// of constant size: one vector or scalar store per array), M == 0 the count n.
+template <int M>
 void store_lanes(const LaneBlock& b, int n, int o, const RunView& v) {
-    const int m = Whole ? kLanes : n;
+    const int m = M > 0 ? M : n;
     const std::size_t f = std::size_t(m) * sizeof(float), i = std::size_t(m) * sizeof(std::int32_t);
     std::memcpy(v.px + o, b.px, f);
     std::memcpy(v.py + o, b.py, f);
@@ -862,11 +864,13 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
     const RunView v = run_view(c, r, y, at, fb);
     for (int b0 = xa; b0 < xb; b0 += kLanes) {
         const int n = std::min(kLanes, xb - b0), o = b0 - xa;
-        const LaneBlock lanes = emit_lanes(v, b0);
-        if (at + std::size_t(o + kLanes) <= room)
-            store_lanes<true>(lanes, n, o, v);
+        const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes<kLanes>(v, b0);
+        if (n == 1)
+            store_lanes<1>(lanes, n, o, v);
+        else if (at + std::size_t(o + kLanes) <= room)
+            store_lanes<kLanes>(lanes, n, o, v);
         else
-            store_lanes<false>(lanes, n, o, v);
+            store_lanes<0>(lanes, n, o, v);
         for (int i = 0; i < n; ++i)
             if (lanes.fix[i]) emit_pixel(c, r, b0 + i, y, at + std::size_t(o + i), fb);
     }
