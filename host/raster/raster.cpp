@@ -11,8 +11,9 @@
 //                       branches that vectorises) into the visibility buffer (triangle id per pixel), with
 //                       the tile's depth and owner buffers in cache;
 //   emit_rows/emit_run  perspective-correct interpolation once per covered pixel, for the triangle that won
-//                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time as a
-//                       vectorised loop (emit_pixel, the one-pixel path, takes the rare fallbacks).
+//                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time in
+//                       blocks of kLanes pixels, each one vector loop (emit_lanes) copied out whole
+//                       (emit_pixel, the one-pixel path, takes the rare fallbacks).
 // Threads: vertices and triangles are split into contiguous ranges for set-up and binning; threads take
 // tiles, then bands of tile rows for emission, from a shared counter. Every per-pixel result is computed
 // the same way whatever the split, so the output is bit-identical for any thread count.
@@ -23,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -755,72 +757,133 @@ void emit_pixel(const EmitContext& c, const Resolve& r, int x, int y, std::size_
 
 inline bool finite_d(double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); }
 
-// Writes the fragments of pixels [xa, xb) of row y, all won by the triangle of `r`, from index `at` on: the
-// same operations as emit_pixel in the same order (no fused multiply-adds: the host is built with
-// -ffp-contract=off), as one loop without branches that the compiler vectorises; the few pixels that need a
-// fallback are flagged and redone by emit_pixel.
-void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std::size_t at, FragmentBuffer& fb) {
+// One run's view for emit_lanes: the output arrays from the run's first slot, the triangle's affine numerators
+// and the frame constants, copied into locals so that the lane loop keeps them in registers.
+struct RunView {
+    float *px, *py, *pz, *nx, *ny, *nz, *depth, *b1, *b2;
+    std::int32_t *pixel, *triangle;
+    Affine q, P0, P1, P2, N0, N1, N2, B1, B2;
+    double Y, x0, ex, ey, ez, fx, fy, fz;
+    bool flip;
+    std::int32_t tri, row;
+};
+
+RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at, FragmentBuffer& fb) {
+    return RunView{fb.px.data() + at, fb.py.data() + at, fb.pz.data() + at, fb.nx.data() + at, fb.ny.data() + at,
+                   fb.nz.data() + at, fb.depth.data() + at, fb.b1.data() + at, fb.b2.data() + at,
+                   fb.pixel.data() + at, fb.triangle.data() + at, r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2],
+                   r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
+                   c.forward.z, c.flip, r.mesh_triangle, std::int32_t(std::size_t(y) * std::size_t(c.width))};
+}
+
+// Lanes of one block: a fixed count, so that the lane loop compiles to whole vectors without a scalar tail.
+constexpr int kLanes = 4;
+
+// One block's fragments, computed in the calling thread's own arrays (which alias nothing, so the lane loop
+// vectorises without run-time overlap checks) and then copied to the fragment buffer whole.
+struct LaneBlock {
+    float px[kLanes], py[kLanes], pz[kLanes], nx[kLanes], ny[kLanes], nz[kLanes], depth[kLanes], b1[kLanes], b2[kLanes];
+    std::int32_t pixel[kLanes], triangle[kLanes];
+    std::int32_t fix[kLanes];   // 1: the pixel needs emit_pixel's fallbacks
+};
+
+// Fragments of the Lanes pixels x = xs + i (lanes from Lanes on are left unset): the same operations as
+// emit_pixel in the same order (no fused multiply-adds: the host is built with -ffp-contract=off), one loop
+// without branches that the compiler vectorises. Lanes is kLanes, or 1 for the one-pixel runs of small
+// triangles, which a whole block would only slow down.
+template <int Lanes>
+LaneBlock emit_lanes(const RunView& v, int xs) {
+    const double Y = v.Y, x0 = v.x0, ex = v.ex, ey = v.ey, ez = v.ez, fx = v.fx, fy = v.fy, fz = v.fz;
+    const Affine q = v.q, P0 = v.P0, P1 = v.P1, P2 = v.P2, N0 = v.N0, N1 = v.N1, N2 = v.N2, B1 = v.B1, B2 = v.B2;
+    const bool flip = v.flip;
+    const std::int32_t tri = v.tri, first = v.row + xs;
+    LaneBlock b;
+    for (int i = 0; i < Lanes; ++i) {
+        const double X = double(xs + i) + 0.5 - x0;
+        const double s = q.at(X, Y);
+        const double inv = 1.0 / s;
+        const double Px = P0.at(X, Y) * inv, Py = P1.at(X, Y) * inv, Pz = P2.at(X, Y) * inv;
+        const double sign = s < 0.0 ? -1.0 : 1.0;   // -N for s < 0: negation is exact, as in interpolate()
+        double Nx = N0.at(X, Y) * sign, Ny = N1.at(X, Y) * sign, Nz = N2.at(X, Y) * sign;
+        const double len = std::sqrt(Nx * Nx + Ny * Ny + Nz * Nz);
+        const double k = 1.0 / len;
+        Nx *= k;
+        Ny *= k;
+        Nz *= k;
+        const double facing = Nx * (ex - Px) + Ny * (ey - Py) + Nz * (ez - Pz);
+        const double turn = (flip & (facing < 0.0)) ? -1.0 : 1.0;
+        Nx *= turn;
+        Ny *= turn;
+        Nz *= turn;
+        b.fix[i] = std::int32_t(!(finite_d(inv) & (len > 0.0) & finite_d(len)));
+        b.px[i] = float(Px);
+        b.py[i] = float(Py);
+        b.pz[i] = float(Pz);
+        b.nx[i] = float(Nx);
+        b.ny[i] = float(Ny);
+        b.nz[i] = float(Nz);
+        b.depth[i] = float((Px - ex) * fx + (Py - ey) * fy + (Pz - ez) * fz);
+        b.b1[i] = float(B1.at(X, Y) * inv);
+        b.b2[i] = float(B2.at(X, Y) * inv);
+        b.pixel[i] = first + i;
+        b.triangle[i] = tri;
+    }
+    return b;
+}
+
+// The first m lanes of `b` into slots o .. o + m of the run's arrays: M > 0 stores the constant count M (a copy
+// of constant size: one vector or scalar store per array), M == 0 the count n.
+template <int M>
+void store_lanes(const LaneBlock& b, int n, int o, const RunView& v) {
+    const int m = M > 0 ? M : n;
+    const std::size_t f = std::size_t(m) * sizeof(float), i = std::size_t(m) * sizeof(std::int32_t);
+    std::memcpy(v.px + o, b.px, f);
+    std::memcpy(v.py + o, b.py, f);
+    std::memcpy(v.pz + o, b.pz, f);
+    std::memcpy(v.nx + o, b.nx, f);
+    std::memcpy(v.ny + o, b.ny, f);
+    std::memcpy(v.nz + o, b.nz, f);
+    std::memcpy(v.depth + o, b.depth, f);
+    std::memcpy(v.b1 + o, b.b1, f);
+    std::memcpy(v.b2 + o, b.b2, f);
+    std::memcpy(v.pixel + o, b.pixel, i);
+    std::memcpy(v.triangle + o, b.triangle, i);
+}
+
+// Writes the fragments of pixels [xa, xb) of row y, all won by the triangle of `r`, from index `at` on, in
+// blocks of kLanes pixels. A block may run past xb: its extra lanes write slots [at + xb - xa, ...) that the
+// next runs of the same band overwrite, so only slots before `room` (the end of the band's own slice of the
+// buffer, which no other thread writes) may be written; a block that would pass it takes the exact count.
+// Every pixel's values are those of the one-lane loop; the few that need a fallback are redone by emit_pixel.
+void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std::size_t at, std::size_t room,
+              FragmentBuffer& fb) {
     if (r.degenerate) {
         for (int x = xa; x < xb; ++x) emit_pixel(c, r, x, y, at + std::size_t(x - xa), fb);
         return;
     }
-    constexpr int kBlock = 64;
-    float *__restrict const px = fb.px.data() + at, *__restrict const py = fb.py.data() + at;
-    float *__restrict const pz = fb.pz.data() + at, *__restrict const nx = fb.nx.data() + at;
-    float *__restrict const ny = fb.ny.data() + at, *__restrict const nz = fb.nz.data() + at;
-    float *__restrict const depth = fb.depth.data() + at, *__restrict const b1 = fb.b1.data() + at;
-    float *__restrict const b2 = fb.b2.data() + at;
-    std::int32_t *__restrict const pixel = fb.pixel.data() + at, *__restrict const triangle = fb.triangle.data() + at;
-    const double Y = double(y) + 0.5 - r.y0, x0 = r.x0;
-    const double ex = c.eye.x, ey = c.eye.y, ez = c.eye.z, fx = c.forward.x, fy = c.forward.y, fz = c.forward.z;
-    const Affine q = r.q, P0 = r.P[0], P1 = r.P[1], P2 = r.P[2], N0 = r.N[0], N1 = r.N[1], N2 = r.N[2], B1 = r.b1, B2 = r.b2;
-    const bool flip = c.flip;
-    const std::int32_t tri = r.mesh_triangle;
-    const std::int32_t row = std::int32_t(std::size_t(y) * std::size_t(c.width));
-    for (int b0 = xa; b0 < xb; b0 += kBlock) {
-        const int n = std::min(kBlock, xb - b0);
-        const int o = b0 - xa;
-        std::int32_t fix[kBlock];
-        for (int i = 0; i < n; ++i) {
-            const double X = double(b0 + i) + 0.5 - x0;
-            const double s = q.at(X, Y);
-            const double inv = 1.0 / s;
-            const double Px = P0.at(X, Y) * inv, Py = P1.at(X, Y) * inv, Pz = P2.at(X, Y) * inv;
-            const double sign = s < 0.0 ? -1.0 : 1.0;   // -N for s < 0: negation is exact, as in interpolate()
-            double Nx = N0.at(X, Y) * sign, Ny = N1.at(X, Y) * sign, Nz = N2.at(X, Y) * sign;
-            const double len = std::sqrt(Nx * Nx + Ny * Ny + Nz * Nz);
-            const double k = 1.0 / len;
-            Nx *= k;
-            Ny *= k;
-            Nz *= k;
-            const double facing = Nx * (ex - Px) + Ny * (ey - Py) + Nz * (ez - Pz);
-            const double turn = (flip & (facing < 0.0)) ? -1.0 : 1.0;
-            Nx *= turn;
-            Ny *= turn;
-            Nz *= turn;
-            fix[i] = std::int32_t(!(finite_d(inv) & (len > 0.0) & finite_d(len)));
-            px[o + i] = float(Px);
-            py[o + i] = float(Py);
-            pz[o + i] = float(Pz);
-            nx[o + i] = float(Nx);
-            ny[o + i] = float(Ny);
-            nz[o + i] = float(Nz);
-            depth[o + i] = float((Px - ex) * fx + (Py - ey) * fy + (Pz - ez) * fz);
-            b1[o + i] = float(B1.at(X, Y) * inv);
-            b2[o + i] = float(B2.at(X, Y) * inv);
-            pixel[o + i] = row + b0 + i;
-            triangle[o + i] = tri;
-        }
+    const RunView v = run_view(c, r, y, at, fb);
+    for (int b0 = xa; b0 < xb; b0 += kLanes) {
+        const int n = std::min(kLanes, xb - b0), o = b0 - xa;
+        const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes<kLanes>(v, b0);
+        if (n == 1)
+            store_lanes<1>(lanes, n, o, v);
+        else if (at + std::size_t(o + kLanes) <= room)
+            store_lanes<kLanes>(lanes, n, o, v);
+        else
+            store_lanes<0>(lanes, n, o, v);
         for (int i = 0; i < n; ++i)
-            if (fix[i]) emit_pixel(c, r, b0 + i, y, at + std::size_t(o + i), fb);
+            if (lanes.fix[i]) emit_pixel(c, r, b0 + i, y, at + std::size_t(o + i), fb);
     }
 }
 
+// Entries of emission's Resolve cache (a power of two: the slot is the id's low bits).
+constexpr std::size_t kResolveCache = 1024;
+
 // Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on, run by run
 // (consecutive pixels won by the same triangle). A small direct-mapped cache of Resolves (by triangle id)
-// sets each triangle up about once per band of rows.
+// sets each triangle up about once per band of rows. `room` is the end of the band's slice of `fb`.
 void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, int y_end, std::size_t at,
-               FragmentBuffer& fb) {
+               std::size_t room, FragmentBuffer& fb) {
     for (int y = y_begin; y < y_end; ++y) {
         const std::int32_t* const owner = c.owner + std::size_t(y) * std::size_t(c.width);
         for (int tx = 0; tx < c.tiles_x; ++tx) {
@@ -833,9 +896,9 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
                 }
                 int e = x + 1;
                 while (e < span.hi && owner[e] == id) ++e;
-                Resolve& r = cache[std::size_t(id) % cache.size()];
+                Resolve& r = cache[std::size_t(id) & (kResolveCache - 1)];
                 if (r.id != id) r = resolve_of(corners_of(c, id), id);
-                emit_run(c, r, y, x, e, at, fb);
+                emit_run(c, r, y, x, e, at, room, fb);
                 at += std::size_t(e - x);
                 x = e;
             }
@@ -936,25 +999,40 @@ std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
     return at;
 }
 
+// The eleven fragment arrays sized for n fragments. Growing an array value-initialises its new elements (and
+// faults in fresh pages): a pass over 44 bytes per fragment that, on one thread, kept the other idle, so the
+// threads take every threads-th array (each vector is one thread's alone).
+void size_fragments(FragmentBuffer& fb, std::size_t n, int threads) {
+    std::vector<float>* const f[] = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2};
+    std::vector<std::int32_t>* const i[] = {&fb.pixel, &fb.triangle};
+    constexpr int kArrays = 11;
+    bool grows = false;
+    for (const std::vector<float>* v : f) grows = grows || v->size() < n;
+    for (const std::vector<std::int32_t>* v : i) grows = grows || v->size() < n;
+    const int workers = grows ? std::min(threads, kArrays) : 1;
+    run_parallel(workers, [&](int t) {
+        for (int k = t; k < kArrays; k += workers)
+            k < 9 ? size_for_frame(*f[k], n) : size_for_frame(*i[k - 9], n);
+    });
+}
+
 // 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer.
 void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, const SetupResult& s, const Tiling& g,
               const Scratch& scratch, int threads, FragmentBuffer& fb) {
     const std::vector<std::size_t> at = band_offsets(scratch.spans.get(), g);
     fb.width = g.width;
     fb.height = g.height;
-    for (std::vector<float>* v : {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2})
-        size_for_frame(*v, at.back());
-    size_for_frame(fb.pixel, at.back());
-    size_for_frame(fb.triangle, at.back());
+    size_fragments(fb, at.back(), threads);
     const EmitContext ctx{&mesh, s.sv.get(), &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
                           g.height};
     std::atomic<int> next_band{0};
     run_parallel(threads, [&](int) {
-        std::vector<Resolve> cache(1024);
+        std::vector<Resolve> cache(kResolveCache);
         for (Resolve& r : cache) r.id = -1;
         for (int ty = next_band++; ty < g.tiles_y; ty = next_band++)
-            emit_rows(ctx, cache, ty * kTileH, std::min(g.height, (ty + 1) * kTileH), at[std::size_t(ty)], fb);
+            emit_rows(ctx, cache, ty * kTileH, std::min(g.height, (ty + 1) * kTileH), at[std::size_t(ty)],
+                      at[std::size_t(ty) + 1], fb);
     });
 }
 
