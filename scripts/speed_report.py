@@ -439,6 +439,16 @@ def process_batch(data, run):
             f"(`{cmd}`, caches filled by one run before, {len(stages)} timed runs: {runs}).")
 
 
+def matched_rows(lines, pattern):
+    """The matches of `pattern` at the start of each line, for the lines it matches."""
+    return [m for m in (re.match(pattern, l) for l in lines) if m]
+
+
+def markdown_table(header, rows):
+    """A markdown table: the header's cells, a rule, then one line of cells per row."""
+    return ["| " + " | ".join(header) + " |", "|" + " --- |" * len(header)] + ["| " + " | ".join(r) + " |" for r in rows]
+
+
 def process_contact(t):
     lines = section(t, "cold contact sheet")
     rows = [re.match(r"^(one program per model \(before\)|models share one program \(new\))\s+(\d+)ms\s+(\d+)ms\s+"
@@ -459,35 +469,24 @@ def process_contact(t):
 
 
 def process_planning(t):
-    lines = section(t, "planning")
-    rows = [re.match(r"^(\S+)\s+(.+?)\s+(\d+)ms\s+(\d+)ms\s+(\d+)ms\s+([\d.]+)ms\s+([\d.]+)x the old cold plan", l)
-            for l in lines]
-    rows = [r for r in rows if r]
+    rows = matched_rows(section(t, "planning"), r"^(\S+)\s+(.+?)\s+(\d+)ms\s+(\d+)ms\s+(\d+)ms\s+([\d.]+)ms\s+([\d.]+)x the old cold plan")
     if not rows:
         return "Planning: not measured in this run."
-    out = ["| scene | case | plan | search | programs | render | vs the old cold plan |",
-           "| --- | --- | --- | --- | --- | --- | --- |"]
-    for r in rows:
-        out.append(f"| {r.group(1)} | {r.group(2)} | {r.group(3)} ms | {r.group(4)} ms | {r.group(5)} ms | "
-                   f"{r.group(6)} ms | {r.group(7)}x |")
-    return "\n".join(out)
+    header = ["scene", "case", "plan", "search", "programs", "render", "vs the old cold plan"]
+    return "\n".join(markdown_table(header, [[r.group(1), r.group(2), f"{r.group(3)} ms", f"{r.group(4)} ms",
+                                               f"{r.group(5)} ms", f"{r.group(6)} ms", f"{r.group(7)}x"] for r in rows]))
 
 
 def process_meshes(t):
     lines = section(t, "mesh loading")
-    rows = [re.match(r"^(\S+)\s+(\d+)\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)x\s+([\d.]+)MB", l)
-            for l in lines]
-    rows = [r for r in rows if r]
+    rows = matched_rows(lines, r"^(\S+)\s+(\d+)\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)x\s+([\d.]+)MB")
     if not rows:
         return "Mesh loading: not measured in this run."
     best = re.search(r"best of (\d+)", lines[0])
-    out = [f"| mesh loading, best of {best.group(1) if best else '?'} | triangles | cache off (full loader) | key "
-           "(SHA-256 of the file) | miss (full load + entry stored) | **cache hit** | off / hit | entry |",
-           "| --- | --- | --- | --- | --- | --- | --- | --- |"]
-    for r in rows:
-        g = r.groups()
-        out.append(f"| {g[0]} | {int(g[1]):,} | {g[2]} ms | {g[3]} ms | {g[4]} ms | {g[5]} ms | {g[6]}x | {g[7]} MB |")
-    return "\n".join(out)
+    header = [f"mesh loading, best of {best.group(1) if best else '?'}", "triangles", "cache off (full loader)",
+              "key (SHA-256 of the file)", "miss (full load + entry stored)", "**cache hit**", "off / hit", "entry"]
+    return "\n".join(markdown_table(header, [[g[0], f"{int(g[1]):,}", f"{g[2]} ms", f"{g[3]} ms", f"{g[4]} ms",
+                                               f"{g[5]} ms", f"{g[6]}x", f"{g[7]} MB"] for g in (r.groups() for r in rows)]))
 
 
 # --- the blocks: shadelab chart ------------------------------------------------------------------------------
