@@ -33,15 +33,8 @@
 // that B(g) is held at 0 where its continued cubic falls below 0.
 SL_INLINE void Emp_splines(float g, __global const float* restrict tab, float* param, float* bright) {
     __global const EmpiricalSegment* seg = (__global const EmpiricalSegment*)tab;
-    // The first segment's values pass through sl_after (the identity: the host refuses a non-finite table), so
-    // that no select below is between two loads: LLVM rewrites such a select into a load from a selected address,
-    // a gather per fragment, which the loop vectoriser's cost model rejects on AVX2 hosts (pthread-haswell). The
-    // sl_after is the same for every fragment and is hoisted out of the work-item loop.
-    const float a = seg[0].start;
-    float x = a, p0 = sl_after(seg[0].param[0], a), p1 = sl_after(seg[0].param[1], a);
-    float p2 = sl_after(seg[0].param[2], a), p3 = sl_after(seg[0].param[3], a);
-    float b0 = sl_after(seg[0].bright[0], a), b1 = sl_after(seg[0].bright[1], a);
-    float b2 = sl_after(seg[0].bright[2], a), b3 = sl_after(seg[0].bright[3], a);
+    float x = seg[0].start, p0 = seg[0].param[0], p1 = seg[0].param[1], p2 = seg[0].param[2], p3 = seg[0].param[3];
+    float b0 = seg[0].bright[0], b1 = seg[0].bright[1], b2 = seg[0].bright[2], b3 = seg[0].bright[3];
 #pragma unroll
     for (int j = 1; j < SL_EMP_SCAN; ++j) {
         // every value loaded before the choice: a load inside `in ? load : x` is conditional code, which cannot be
