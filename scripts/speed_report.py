@@ -90,7 +90,7 @@ def bench_steps(part, a, tmp):
     """The commands of one part: (label, argv, log file name, extra environment)."""
     b, d = a.build, a.data
     if part == "models":
-        opts = ["--smoke", "--models", QUICK_MODELS] if a.quick else []
+        opts = ["--smoke", "--models", QUICK_MODELS] if a.quick else ["--repeats", str(a.models_repeats)]
         return [("bench_models", [f"{b}/bench_models", *opts, "--csv", f"{d}/bench_models.csv",
                                   "--markdown", f"{d}/bench_models.md"], "bench_models.txt", {})]
     if part == "e2e":
@@ -619,6 +619,8 @@ def main():
     ap.add_argument("--doc", default=os.path.join(ROOT, "docs", "speed.md"), help="doc to rewrite")
     ap.add_argument("--doc-in", help="read the doc's text from here (default: --doc itself)")
     ap.add_argument("--e2e-frames", type=int, default=3, help="bench_e2e --frames (default 3)")
+    ap.add_argument("--models-repeats", type=int, default=5,
+                    help="bench_models --repeats: best of this many timed runs per model and mode (default 5)")
     ap.add_argument("--no-run", action="store_true", help="only rewrite the blocks from the raw outputs")
     a = ap.parse_args()
     a.build, a.data = os.path.abspath(a.build), os.path.abspath(a.data)
