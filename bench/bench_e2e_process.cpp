@@ -1,6 +1,6 @@
 // The whole process around the frame (issue 13 item 6): what is not shading.
 //   writes:   shadelab's write_image against `oiiotool` writing the same pixels with the same settings (PNG zlib
-//             level, EXR compression), for each setting: time (best of N), the ratio, the file size;
+//             level and row filter, EXR compression), for each setting: time (best of N), the ratio, the file size;
 //   builds:   the whole catalogue's programs (every model, precise and fast, one light) built and run once on a
 //             tiny fragment buffer, each case in a fresh process: PoCL's kernel cache cold or warm, shadelab's
 //             program-binary cache off, cold or warm;
@@ -112,11 +112,21 @@ void bench_writes(Runtime& rt, const Mesh& mesh, int w, int h, int reps, const f
         std::string oiio_args;
     };
     std::vector<Case> cases;
+    // PNG: each zlib level with shadelab's row filter, oiiotool given the same filter; and level 1 with libpng's
+    // default filtering (all five filters tried per row: png:filter 0) on both sides.
+    const int filter = ImageWriteOptions().png_filter;
     for (int level : {6, 1, 3, 9}) {
         ImageWriteOptions o;
         o.png_level = level;
         cases.push_back({"png zlib " + std::to_string(level) + (level == ImageWriteOptions().png_level ? " (default)" : ""),
-                         ".png", o, raw8 + " --attrib png:compressionLevel " + std::to_string(level)});
+                         ".png", o, raw8 + " --attrib png:compressionLevel " + std::to_string(level) +
+                                        " --attrib png:filter " + std::to_string(filter)});
+    }
+    {
+        ImageWriteOptions o;
+        o.png_filter = 0;
+        cases.push_back({"png zlib 1, filter 0", ".png", o,
+                         raw8 + " --attrib png:compressionLevel " + std::to_string(o.png_level) + " --attrib png:filter 0"});
     }
     for (const char* c : {"zip", "piz", "zips", "rle", "none", "dwaa"}) {
         ImageWriteOptions o;
@@ -271,7 +281,7 @@ void bench_meshes(const std::vector<std::string>& meshes, int reps, const fs::pa
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool smoke = false, child = false, no_planning = false, contact_only = false, meshes_only = false;
+    bool smoke = false, child = false, no_planning = false, contact_only = false, meshes_only = false, writes_only = false;
     std::string child_plan_scene, child_contact_out;
     int contact_shared = 1, contact_reps = 2;
     std::vector<std::string> plan_scenes = {std::string(SHADELAB_SOURCE_DIR) + "/scenes/materials.json",
@@ -292,6 +302,7 @@ int main(int argc, char** argv) {
     app.add_option("--plan-scenes", plan_scenes, "Scenes of the planning rows")->capture_default_str();
     app.add_flag("--no-planning", no_planning, "Skip the planning rows");
     app.add_flag("--meshes-only", meshes_only, "Only the mesh-loading table");
+    app.add_flag("--writes-only", writes_only, "Only the image-write table");
     app.add_option("--child-plan", child_plan_scene, "(internal) plan this scene once and print the times");
     app.add_option("--child-contact", child_contact_out, "(internal) write the contact sheet here once, print the times");
     app.add_option("--contact-shared", contact_shared, "(internal) with --child-contact: 1 shared program, 0 per model")
@@ -329,6 +340,10 @@ int main(int argc, char** argv) {
             Runtime rt;
             std::printf("OpenCL: %s\n", rt.device_description().c_str());
             bench_writes(rt, load_mesh_uncached(mesh_dir + "/stanford-bunny.obj"), w, h, reps, tmp);
+            if (writes_only) {
+                fs::remove_all(tmp);
+                return 0;
+            }
             bench_builds(self, tmp, build_models);
             if (!smoke && contact_reps > 0) bench::bench_contact(run_capture, self, tmp, contact_reps);
             if (!smoke && !no_planning) bench::bench_planning(run_capture, self, tmp, plan_scenes);

@@ -12,8 +12,11 @@
 #ifndef SHADELAB_COMMON_CL
 #define SHADELAB_COMMON_CL
 
-// PoCL's work-item vectoriser stops at calls it cannot inline: every helper is forced inline.
-#define SL_INLINE inline __attribute__((always_inline))
+// PoCL's work-item vectoriser stops at calls it cannot inline: every helper is forced inline. Static, so that a
+// program holds only the helpers its kernels call: an external one is kept in the program's bitcode whether
+// called or not, and PoCL parses that whole bitcode again each time a process loads the program from a binary
+// (two thirds of a single-model program's bitcode were unused helpers; docs/speed.md, "A warm batch").
+#define SL_INLINE static inline __attribute__((always_inline))
 
 #define SL_PI 3.14159265358979323846f
 #define SL_INV_PI 0.31830988618379067154f

@@ -320,6 +320,7 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
     // divide by alpha (EXR keeps OpenImageIO's associated convention; covered pixels have alpha 1 anyway).
     if (enc == Encoding::Srgb8) spec.attribute("oiio:UnassociatedAlpha", 1);
     spec.attribute("png:compressionLevel", std::clamp(options.png_level, 0, 9));
+    spec.attribute("png:filter", std::clamp(options.png_filter, 0, 248));
     if (std::string(out->format_name()) == "openexr") spec.attribute("compression", options.exr_compression);
 
     bool ok = out->open(file, spec);

@@ -131,6 +131,8 @@ private:
     void remove_stale(std::ostream& log) const;
     void log_summary(std::ostream& log, const BatchSummary& sum, std::size_t all_jobs) const;
     void index_outputs(const std::vector<BatchJob>& all);
+    void plan_shared_programs(const std::vector<BatchJob>& jobs);
+    void prepare_shared_program(Prepared& p);
 
     const BatchOptions& opt_;
     Runtime& rt_;
@@ -139,7 +141,24 @@ private:
     std::map<std::string, std::size_t> first_writer_;   // output path -> index of the first job writing it
     std::map<std::size_t, std::string> job_labels_;
     std::set<std::string> output_folders_;               // every folder an output of the batch goes to
+    // The materials of the jobs to render, by what their shade kernels share (light count, all directional or
+    // not, precision): each group's models are built into programs of many models (Shader::prepare_many) when
+    // its first job shades, instead of one program per model (docs/speed.md, "A warm batch").
+    struct SharedPrograms {
+        std::vector<Material> materials;
+        std::vector<Light> lights;           // the first job's: prepare_many needs their count and kinds only
+        Precision precision = Precision::Precise;
+        bool prepared = false;
+    };
+    std::map<std::string, SharedPrograms> shared_;
 };
+
+// The kernels of two jobs can share a program when these agree (shade_program's defines besides the model's).
+std::string shared_program_group(const std::vector<Light>& lights, Precision precision) {
+    const bool all_directional =
+        std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
+    return std::to_string(lights.size()) + (all_directional ? " directional " : " mixed ") + precision_name(precision);
+}
 
 // Two jobs writing the same file would race (and the last one would silently win). Every job of the full
 // list is parsed once up front (cheap: no meshes are read), so every shard agrees on which job owns a
@@ -156,6 +175,45 @@ void Runner::index_outputs(const std::vector<BatchJob>& all) {
         } catch (const std::exception&) {   // the job fails on its own, in turn, with its message
         }
     }
+}
+
+// The groups of shared_ for `jobs`, from their scene files (parsed again: cheap, no meshes are read). Jobs
+// whose outputs are up to date are left out (they will not shade), and so is everything when the jobs are
+// planned (--tolerance: the plan chooses the models).
+void Runner::plan_shared_programs(const std::vector<BatchJob>& jobs) {
+    if (opt_.tolerance > 0.0) return;
+    for (const auto& j : jobs) {
+        try {
+            const Scene s = load_scene(j.scene, SceneLoadOptions{opt_.out_dir, j.mesh});
+            if (!opt_.force && up_to_date(s)) continue;
+            SharedPrograms& g = shared_[shared_program_group(s.lights, s.precision)];
+            if (g.materials.empty()) {
+                g.lights = s.lights;
+                g.precision = s.precision;
+            }
+            for (const auto& m : s.meshes) g.materials.push_back(m.material);
+        } catch (const std::exception&) {   // the job fails on its own, in turn, with its message
+        }
+    }
+}
+
+// Before the job's first shade: its group's programs of many models, built once for the whole batch. The
+// time is the job's build time. A failed build leaves each model to build its own program, as without it.
+void Runner::prepare_shared_program(Prepared& p) {
+    const auto it = shared_.find(shared_program_group(p.job.lights, p.job.precision));
+    if (it == shared_.end() || it->second.prepared) return;
+    SharedPrograms& g = it->second;
+    g.prepared = true;
+    const auto t0 = clock_type::now();
+    try {
+        shader_.prepare_many(g.materials, g.lights, g.precision);
+    } catch (const Error& e) {
+        p.result.warnings.push_back(std::string("the shared program of this batch's models did not build, each "
+                                                "model builds its own: ") + e.what());
+    }
+    const double ms = ms_since(t0);
+    p.result.times.build_ms += ms;
+    p.result.times.shade_ms += ms;
 }
 
 std::string Runner::claim_outputs_note(const BatchJob& job, const Scene& s) {
@@ -269,6 +327,7 @@ Prepared Runner::prepare(const BatchJob& job) {
 void Runner::shade(Prepared& p) {
     const Scene& s = p.scene;
     try {
+        prepare_shared_program(p);
         const auto rgb = pipeline::shade(shader_, p.job, p.frame, p.result.times);
         // The images, composed here; written by write() (on its own thread when overlapping).
         p.images = pipeline::resolve(p.job, p.frame, rgb, p.result.times);
@@ -348,6 +407,7 @@ BatchSummary Runner::run() {
     const std::vector<BatchJob> all = plan_all_jobs(opt_);
     const std::vector<BatchJob> jobs = shard_jobs(all, opt_);
     index_outputs(all);
+    plan_shared_programs(jobs);
 
     BatchSummary sum;
     sum.planned_total = all.size();

@@ -6,6 +6,8 @@
 //            load the meshes, rasterise (on a std::async thread while the previous job shades, unless
 //            overlap is off), shade each mesh's fragments with its material, write the images atomically
 //            (on a std::async thread while the next job shades, unless overlap is off)
+//   the models of the jobs to render that can share a program get one per light count and precision
+//   (Shader::prepare_many), built before the first job needing it shades
 //   a failing job is reported in one line "scene 'x.json': ..." and the batch goes on;
 //   a JSON and a CSV report give, per job, fragments, rasterisation and kernel time, Mfrag/s and the error.
 #pragma once
