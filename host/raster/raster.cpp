@@ -15,7 +15,7 @@
 //                       blocks of kLanes pixels, each one vector loop (emit_lanes) copied out whole
 //                       (emit_pixel, the one-pixel path, takes the rare fallbacks).
 // Threads: vertices and triangles are split into contiguous ranges for set-up and binning; threads take
-// tiles, then bands of tile rows for emission, from a shared counter. Every per-pixel result is computed
+// tiles, then bands of rows for emission, from a shared counter. Every per-pixel result is computed
 // the same way whatever the split, so the output is bit-identical for any thread count.
 #include "raster/raster.hpp"
 
@@ -183,10 +183,10 @@ std::int64_t edge_function(std::int64_t ax, std::int64_t ay, std::int64_t bx, st
 // pixel on it: the rule is a strict choice between (dx, dy) and (-dx, -dy).
 bool is_top_left(std::int64_t dx, std::int64_t dy) { return dy < 0 || (dy == 0 && dx > 0); }
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {   // b > 0
-    const std::int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
-}
+// floor(a / kSub): kSub is 2^kSubBits, and an arithmetic right shift of a two's-complement integer rounds
+// towards minus infinity (guaranteed from C++20, and what GCC and Clang do for every earlier standard).
+static_assert((std::int64_t(-1) >> 1) == -1, "floor_sub needs an arithmetic right shift");
+std::int64_t floor_sub(std::int64_t a) { return a >> kSubBits; }
 
 // Round to the nearest sub-pixel (halves up). Inline floor: the result is the same on every thread.
 std::int32_t snap(double pixels) {
@@ -268,8 +268,8 @@ Setup setup_triangle(const glm::dvec4 c[3], const glm::dvec2 screen[3], const Cl
     // [min, max] of the snapped vertices, clamped to the image.
     const std::int64_t lo_x = std::min({r.x[0], r.x[1], r.x[2]}), hi_x = std::max({r.x[0], r.x[1], r.x[2]});
     const std::int64_t lo_y = std::min({r.y[0], r.y[1], r.y[2]}), hi_y = std::max({r.y[0], r.y[1], r.y[2]});
-    const std::int64_t first_x = -floor_div(-(lo_x - kSub / 2), kSub), last_x = floor_div(hi_x - kSub / 2, kSub);
-    const std::int64_t first_y = -floor_div(-(lo_y - kSub / 2), kSub), last_y = floor_div(hi_y - kSub / 2, kSub);
+    const std::int64_t first_x = -floor_sub(-(lo_x - kSub / 2)), last_x = floor_sub(hi_x - kSub / 2);
+    const std::int64_t first_y = -floor_sub(-(lo_y - kSub / 2)), last_y = floor_sub(hi_y - kSub / 2);
     const std::int64_t min_x = std::max<std::int64_t>(first_x, 0), max_x = std::min<std::int64_t>(last_x, f.width - 1);
     const std::int64_t min_y = std::max<std::int64_t>(first_y, 0), max_y = std::min<std::int64_t>(last_y, f.height - 1);
     if (min_x > max_x || min_y > max_y) return Setup::Empty;
@@ -540,6 +540,8 @@ struct TileContext {
     RowSpan* spans;     // spans[tx * height + y]: row y within tile column tx
 };
 
+constexpr std::uint32_t kDrawAhead = 4;   // bin entries between a prefetch and the draw that reads it
+
 // Clears tile k and draws its triangles, chunk by chunk (ascending ids); `depth` is the calling thread's
 // kTileW x kTileH tile depth.
 void raster_tile(const TileContext& c, int k, double* depth) {
@@ -559,7 +561,11 @@ void raster_tile(const TileContext& c, int k, double* depth) {
         const Chunk& chunk = (*c.chunks)[ci];
         const Bins& b = (*c.bins)[ci];
         const std::int32_t first = (*c.first_id)[ci];
-        for (std::uint32_t i = b.start[std::size_t(k)]; i < b.start[std::size_t(k) + 1]; ++i) {
+        const std::uint32_t end = b.start[std::size_t(k) + 1];
+        for (std::uint32_t i = b.start[std::size_t(k)]; i < end; ++i) {
+            // The tile's triangles are scattered over the chunk when the mesh's order is not spatial: ask for
+            // one a few entries ahead so that its load overlaps the drawing of this one.
+            if (i + kDrawAhead < end) __builtin_prefetch(&chunk.raster[std::size_t(b.ids[i + kDrawAhead])]);
             const std::int32_t local = b.ids[i];
             draw_triangle(chunk.raster[std::size_t(local)], first + local, buf);
         }
@@ -876,8 +882,22 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
     }
 }
 
+constexpr int kEmitAhead = 16;   // pixels between a prefetch of a triangle's set-up record and its run
+
 // Entries of emission's Resolve cache (a power of two: the slot is the id's low bits).
 constexpr std::size_t kResolveCache = 1024;
+
+// Emission meets the triangles of a row in screen order, and their ids (mesh order) are scattered over the
+// set-up records when the mesh's order is not spatial, so a Resolve cache miss first waited for the triangle's
+// ShadeTri. From run end `e`: a prefetch of the ShadeTri of the triangle kEmitAhead pixels on, if it is not
+// cached. Only a hint: nothing is computed from it. (Prefetching its corners too, from the ShadeTri, measured
+// no faster.)
+void prefetch_ahead(const EmitContext& c, const std::vector<Resolve>& cache, const std::int32_t* owner, int e, int hi) {
+    if (e + kEmitAhead >= hi) return;
+    const std::int32_t id = owner[e + kEmitAhead];
+    if (id >= 0 && cache[std::size_t(id) & (kResolveCache - 1)].id != id)
+        __builtin_prefetch(&shade_of(c, chunk_of(c, id), id));
+}
 
 // Writes the fragments of rows [y_begin, y_end) in pixel order, from index `at` of `fb` on, run by run
 // (consecutive pixels won by the same triangle). A small direct-mapped cache of Resolves (by triangle id)
@@ -896,6 +916,9 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
                 }
                 int e = x + 1;
                 while (e < span.hi && owner[e] == id) ++e;
+                // The triangle a few pixels on, if it is not cached, will need its set-up record: ask for it now
+                // (the ids along a row are scattered over the mesh when its order is not spatial).
+                prefetch_ahead(c, cache, owner, e, span.hi);
                 Resolve& r = cache[std::size_t(id) & (kResolveCache - 1)];
                 if (r.id != id) r = resolve_of(corners_of(c, id), id);
                 emit_run(c, r, y, x, e, at, room, fb);
@@ -937,6 +960,17 @@ struct SetupResult {
     std::vector<std::int32_t> first_id;   // first set-up triangle id of each chunk (+ total)
 };
 
+// Set-up reads each triangle's three vertices, which are scattered over the vertex arrays when the mesh's
+// triangle order is not spatial (the bunny's and the dragon's are not): it asks for those of the triangle
+// kSetupAhead on, so that their loads overlap the set-up of the ones between. Only a hint.
+constexpr std::size_t kSetupAhead = 8;
+void prefetch_vertices(const glm::u32vec3& tri, const glm::dvec4* clip, const ScreenVertex* sv) {
+    for (int k = 0; k < 3; ++k) {
+        __builtin_prefetch(&clip[tri[k]]);
+        __builtin_prefetch(&sv[tri[k]]);
+    }
+}
+
 // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
 //    vertices all have w >= z_near > 0); 2. triangle set-up in contiguous ranges of mesh triangles; ids
 //    follow mesh order (the depth tie-break). Large scratch arrays are first written by the thread using them.
@@ -960,7 +994,10 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
         const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
-        for (std::size_t t = b; t < e; ++t) setup_mesh_triangle(mesh, clip.get(), sv, t, f, chunk);
+        for (std::size_t t = b; t < e; ++t) {
+            if (t + kSetupAhead < e) prefetch_vertices(mesh.triangles[t + kSetupAhead], clip.get(), sv);
+            setup_mesh_triangle(mesh, clip.get(), sv, t, f, chunk);
+        }
     });
     s.first_id.assign(s.chunks.size() + 1, 0);
     for (std::size_t i = 0; i < s.chunks.size(); ++i) {
@@ -986,16 +1023,30 @@ Scratch& raster_all(const SetupResult& s, const Tiling& g, int threads) {
     return scratch;
 }
 
-// Where each band of kTileH rows starts in the fragment buffer: the covered counts before it (+ total).
+// Emission's bands: rows a thread takes at a time. Small enough that the threads share out the rows a mesh
+// covers evenly (with bands of a whole tile row, a 512 x 512 frame had 8 bands in all, and the last band one
+// thread took could leave the other idle for an eighth of the frame); large enough that few triangles are cut
+// by a band edge, whose Resolve both bands' threads then compute. Between 16 and 64 rows, about 32 bands or more
+// per frame: 16 rows at 512, 32 at 1080, 64 at 4096. It depends on the height alone (nothing in the output
+// depends on it: each band writes its own slice of the buffer).
+int band_rows(const Tiling& g) {
+    int rows = 64;
+    while (rows > 16 && g.height / rows < 32) rows /= 2;
+    return rows;
+}
+int band_count(const Tiling& g) { return (g.height + band_rows(g) - 1) / band_rows(g); }
+
+// Where each band of band_rows rows starts in the fragment buffer: the covered counts before it (+ total).
 std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
-    std::vector<std::size_t> at(std::size_t(g.tiles_y) + 1, 0);
+    const int bands = band_count(g), rows = band_rows(g);
+    std::vector<std::size_t> at(std::size_t(bands) + 1, 0);
     for (int y = 0; y < g.height; ++y) {
         std::size_t row = 0;
         for (int tx = 0; tx < g.tiles_x; ++tx)
             row += std::size_t(spans[std::size_t(tx) * std::size_t(g.height) + std::size_t(y)].covered);
-        at[std::size_t(y / kTileH) + 1] += row;
+        at[std::size_t(y / rows) + 1] += row;
     }
-    for (int ty = 0; ty < g.tiles_y; ++ty) at[std::size_t(ty) + 1] += at[std::size_t(ty)];
+    for (int b = 0; b < bands; ++b) at[std::size_t(b) + 1] += at[std::size_t(b)];
     return at;
 }
 
@@ -1016,7 +1067,7 @@ void size_fragments(FragmentBuffer& fb, std::size_t n, int threads) {
     });
 }
 
-// 4. Emit fragments in pixel order: each band of kTileH rows writes its own slice of the buffer.
+// 4. Emit fragments in pixel order: each band of band_rows rows writes its own slice of the buffer.
 void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, const SetupResult& s, const Tiling& g,
               const Scratch& scratch, int threads, FragmentBuffer& fb) {
     const std::vector<std::size_t> at = band_offsets(scratch.spans.get(), g);
@@ -1026,13 +1077,14 @@ void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, co
     const EmitContext ctx{&mesh, s.sv.get(), &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
                           g.height};
+    const int bands = band_count(g), rows = band_rows(g);
     std::atomic<int> next_band{0};
     run_parallel(threads, [&](int) {
         std::vector<Resolve> cache(kResolveCache);
         for (Resolve& r : cache) r.id = -1;
-        for (int ty = next_band++; ty < g.tiles_y; ty = next_band++)
-            emit_rows(ctx, cache, ty * kTileH, std::min(g.height, (ty + 1) * kTileH), at[std::size_t(ty)],
-                      at[std::size_t(ty) + 1], fb);
+        for (int b = next_band++; b < bands; b = next_band++)
+            emit_rows(ctx, cache, b * rows, std::min(g.height, (b + 1) * rows), at[std::size_t(b)],
+                      at[std::size_t(b) + 1], fb);
     });
 }
 
