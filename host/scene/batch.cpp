@@ -29,6 +29,7 @@
 #include "plan/planner.hpp"
 #include "raster/raster.hpp"
 #include "scene/scene.hpp"
+#include "shade/shade_program.hpp"
 #include "shade/shader.hpp"
 
 namespace fs = std::filesystem;
@@ -155,9 +156,8 @@ private:
 
 // The kernels of two jobs can share a program when these agree (shade_program's defines besides the model's).
 std::string shared_program_group(const std::vector<Light>& lights, Precision precision) {
-    const bool all_directional =
-        std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
-    return std::to_string(lights.size()) + (all_directional ? " directional " : " mixed ") + precision_name(precision);
+    return std::to_string(lights.size()) + (all_lights_directional(lights) ? " directional " : " mixed ") +
+           precision_name(precision);
 }
 
 // Two jobs writing the same file would race (and the last one would silently win). Every job of the full

@@ -8,6 +8,11 @@
 
 namespace shadelab {
 
+// True when no light is a point light: the shade kernels are then built with SL_ALL_DIRECTIONAL=1, without the
+// point-light arithmetic (kernels/shade_parts.cl). Part of what decides a program, with the light count and the
+// precision, so what decides whether two jobs' kernels can share one (scene/batch.cpp).
+bool all_lights_directional(const std::vector<Light>& lights);
+
 ProgramRequest shade_program(const Material& resolved, const std::vector<Light>& lights, Precision precision);
 
 }  // namespace shadelab

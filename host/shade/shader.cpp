@@ -212,13 +212,15 @@ std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, 
     return d;
 }
 
+bool all_lights_directional(const std::vector<Light>& lights) {
+    return std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
+}
+
 ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision) {
     std::vector<std::string> defines = Shader::defines_for(mat, int(lights.size()), precision);
     // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
     // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
-    const bool all_directional =
-        std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
-    if (all_directional) defines.push_back("SL_ALL_DIRECTIONAL=1");
+    if (all_lights_directional(lights)) defines.push_back("SL_ALL_DIRECTIONAL=1");
     return {"shade.cl", defines, Shader::options_for(precision)};
 }
 
