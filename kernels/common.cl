@@ -261,12 +261,14 @@ SL_INLINE float sl_acos(float x) {
 //   x^y = 2^(y log2 x),  x = 2^e m,  m in [sqrt(1/2), sqrt(2)),
 //   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + s^5/5 + ...),  s = (m - 1) / (m + 1),  |s| <= 0.1716
 // (Abramowitz & Stegun 4.1.27), 2^t = 2^k e^(f ln 2) with k = rint(t) by Taylor series, with no tables, no
-// data-dependent branches and no calls, so they vectorise with the model. They differ in how much of
+// data-dependent branches and no calls, so they vectorise with the model (sl_fast_pow: m in [2/3, 4/3), and
+// fitted polynomials in place of both series). They differ in how much of
 // y log2 x they keep, which sets the error: a rounding dt of t = y log2 x is a relative error ln 2 dt of the
 // result, and a float t is rounded to 2^-24 |t|, |t| = -log2(result) (up to 126 for results near 2^-126).
 //   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.8 ulp for results
 //               >= 2^-10, 4.1 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
-//   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there)
+//   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there);
+//               finite x >= 0 and finite y only (-ffinite-math-only's contract: every model's base is such a value)
 //   sl_pow_cr   double arithmetic, correctly rounded over the whole sweep (0.5 ulp)
 // Precise mode uses sl_pow, fast mode sl_fast_pow, by measurement in the models (bench_models, 1M fragments,
 // three alternating runs on this project's AVX-512 host, medians): precise Mfrag/s with sl_pow / sl_pow_cr:
@@ -285,6 +287,7 @@ SL_INLINE float sl_acos(float x) {
 // pow(1, y) = 1, pow(0, y) = 0 for y > 0 and +inf for y < 0, pow(+inf, y) = +inf / 0 for y > 0 / < 0. A negative
 // base gives NaN (the models never use one: they clamp bases, or select the value away where the base is
 // negative), and so does a NaN argument. r is the value of the formula for the other (finite, positive) bases.
+// sl_pow and sl_pow_cr use this; fast mode's sl_fast_pow keeps only the cases of finite x >= 0 (see there).
 SL_INLINE float sl_pow_special(float x, float y, float r) {
     const float at_zero = y > 0.0f ? 0.0f : INFINITY;   // x == 0 (y != 0)
     const float at_inf = y > 0.0f ? INFINITY : 0.0f;    // x == +inf (y != 0)
@@ -364,31 +367,47 @@ SL_INLINE float sl_pow(float x, float y) {
 
 // ---- sl_fast_pow (fast mode): plain float
 
-// log2 x for finite x > 0, with s = (m - 1) / (m + 1) as in sl_log2_ff: log2 m = s P(s^2), P of degree 3 fitted
-// to (2 / ln 2) atanh(s) / s for |s| <= 0.1716 (relative error of the fit 1.8e-9, below float rounding), in
-// Horner's form: three fmas and one for e, where the series in sl_log2_ff takes seven operations.
+// log2 x for finite x >= 0 (finite for x = 0 too: sl_fast_pow selects that case). x = 2^e m with m in [2/3, 4/3),
+// found by subtracting the bits of 2/3 (0x3f2aaaab): the exponent field of the difference is e, so there is no
+// compare and select on m as in sl_split_log2's [sqrt(1/2), sqrt(2)) split (4 integer operations for 9). Then
+// log2 m = s P(s^2), s = (m - 1) / (m + 1), |s| <= 1/5, P of degree 3 fitted (weighted least squares, iterated
+// to equal relative error, coefficients rounded to float one at a time and the rest refitted) to
+// (2 / ln 2) atanh(s) / s: 1.3e-8 relative, most of it 2 / ln 2 rounded to float. m = 1 gives 0 exactly.
 SL_INLINE float sl_log2_f(float x) {
-    float e;
-    const float m = sl_split_log2(x, &e);
+    const int sub = x < 1.17549435e-38f;   // denormal (or 0): scaled by 2^24 first
+    const uint bits = as_uint(sub ? x * 16777216.0f : x);
+    const int ei = (int)(bits - 0x3f2aaaabu) >> 23;
+    const float m = as_float(bits - ((uint)ei << 23));
     const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
-    return fma(s, fma(fma(fma(0.426173002f, s2, 0.576973140f), s2, 0.961795747f), s2, 2.88539004f), e);
+    const float p = fma(fma(fma(4.573026299e-01f, s2, 5.753346086e-01f), s2, 9.618173838e-01f), s2, 2.885390043e+00f);
+    return fma(s, p, (float)(ei - (sub ? 24 : 0)));
 }
 
-// 2^t as sl_exp2_ff without the low part, and 2^f for |f| <= 1/2 by a polynomial of degree 5 in f itself,
-// 1 + f Q(f), Q fitted to (2^f - 1) / f for the relative error of 2^f (9.2e-8 for the fit, 1.9e-7 evaluated in
-// float): no multiplication by ln 2 and five fmas where the Taylor series of e^g needs degree 7. p(0) = 1, so
-// an integer t gives 2^t exactly.
+// 2^t for t in [-126, 128] (0 below, +inf above), without sl_exp2_ff's low part: k = rint(t), f = t - k, and 2^f
+// for |f| <= 1/2 by a polynomial of degree 5 in f itself, 1 + f Q(f), Q fitted to (2^f - 1) / f for the relative
+// error of 2^f (9.2e-8 for the fit, 1.9e-7 evaluated in float): no multiplication by ln 2 and five fmas where
+// the Taylor series of e^g needs degree 7. p(0) = 1, so an integer t gives 2^t exactly. 2^k is added to p's
+// exponent field (one integer add where sl_scale_exp2 builds and multiplies two factors): p is in [2^-1/2, 2^1/2],
+// so the sum stays a normal float for k in [-126, 127], and k = 128 with f <= 0 gives at most 2^128 = +inf.
 SL_INLINE float sl_exp2_f(float t) {
-    const float tc = fmin(fmax(t, -126.0f), 130.0f);   // as in sl_exp2_ff
+    const float tc = fmin(fmax(t, -126.0f), 128.0f);
     const float k = (tc + 12582912.0f) - 12582912.0f;
     const float f = tc - k;
     const float q = fma(fma(fma(fma(1.32647273e-3f, f, 9.67151299e-3f), f, 5.55073358e-2f), f, 2.40222424e-1f), f,
                         6.93147004e-1f);
-    const float r = sl_scale_exp2(fma(f, q, 1.0f), k);
+    const float r = as_float(as_uint(fma(f, q, 1.0f)) + ((uint)(int)k << 23));
     return t < -126.0f ? 0.0f : r;
 }
 
-SL_INLINE float sl_fast_pow(float x, float y) { return sl_pow_special(x, y, sl_exp2_f(y * sl_log2_f(x))); }
+// x^y = 2^(y log2 x) for finite x >= 0 and finite y: fast mode's contract is -ffinite-math-only's. A negative,
+// infinite or NaN x or y gives an unspecified value (a shading kernel writes any non-finite channel as 0, and
+// no model passes such an x: they clamp first), which saves the five lane-wise tests of sl_pow_special.
+// Exact as pow: x = 0 (0 for y > 0, +inf for y < 0), y = 0 (1, for x = 0 too) and x = 1 (log2 1 = 0 exactly).
+SL_INLINE float sl_fast_pow(float x, float y) {
+    const float r = sl_exp2_f(y * sl_log2_f(x));
+    const float at_zero = y > 0.0f ? 0.0f : INFINITY;
+    return y == 0.0f ? 1.0f : (x == 0.0f ? at_zero : r);
+}
 
 // ---- sl_pow_cr: double, correctly rounded over the sweep in docs/precision.md
 // log2 x in double, y log2 x rounded in double (|t| <= 200 is kept to ~1e-14 absolute), 2^t by Taylor series:
