@@ -441,22 +441,25 @@ struct RowSpan {
 };
 
 // The visibility buffer as draw_triangle updates it, restricted to one tile. Depth is +inf where no
-// triangle has been drawn yet (cleared with the owners when the tile starts). Only the owners outlive the
+// triangle has been drawn yet (cleared when the tile starts; the owners are not). Only the owners outlive the
 // tile (emission reads them), so depth is the drawing thread's own kTileW x kTileH array, which stays in
 // cache and is never written back over the whole frame (at 4096 x 4096 that saves 134 MB of writes).
 struct TileBuffer {
     int width;
     int x0, x1, y0, y1;       // the tile: [x0, x1) x [y0, y1)
     double* depth;            // NDC z of the nearest surface so far: pixel (x, y) at [(y - y0) kTileW + x - x0]
-    std::int32_t* owner;      // its set-up triangle id, -1 for none (the whole frame's, row stride `width`)
+    std::int32_t* owner;      // its set-up triangle id, -1 for none inside a row's span once the tile is drawn
+                              // (the whole frame's, row stride `width`)
     RowSpan* rows;            // rows[y - y0]
 };
 
 // Depth test of the covered pixel centres x in [xs, xe] of one row at NDC depth z = zy + dzdx (x + 0.5 - x0):
 // far plane (the near plane was clipped), then nearest wins; on an exact tie the earlier, lower-index
 // triangle keeps the pixel (strict <, ids ascending). Written without branches so that it vectorises;
-// depth starts at +inf, so an unowned pixel takes any z <= 1. Returns the pixels newly owned.
-// `d` is the tile row's depth, indexed x - tile_x0; `o` the frame row's owners, indexed x.
+// depth starts at +inf, so an unowned pixel takes any z <= 1, and a pixel is unowned exactly while its depth
+// is +inf (a taken z is <= 1). Returns the pixels newly owned.
+// `d` is the tile row's depth, indexed x - tile_x0; `o` the frame row's owners, indexed x (not cleared: an
+// unowned pixel's owner is whatever the last frame left, until clear_unowned).
 inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o, int tile_x0, int xs, int xe,
                                double zy, double dzdx, double x0, std::int32_t tid) {
     std::int32_t newly = 0;
@@ -465,7 +468,7 @@ inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o,
         const std::int32_t prev = o[x];
         double& dx = d[x - tile_x0];
         const bool take = (z <= 1.0) & (z < dx);
-        newly += std::int32_t(take & (prev < 0));
+        newly += std::int32_t(take & (dx == std::numeric_limits<double>::infinity()));
         dx = take ? z : dx;
         o[x] = take ? tid : prev;
     }
@@ -540,10 +543,23 @@ struct TileContext {
     RowSpan* spans;     // spans[tx * height + y]: row y within tile column tx
 };
 
+// Sets owner -1 on the pixels of each row's span that no triangle took (depth still +inf). Emission reads the
+// owners only inside the spans, so the rest of the frame's owners are never cleared: clearing the whole frame
+// (67 MB at 4096 x 4096) was a pass over memory that two threads shared and that did not scale.
+void clear_unowned(const TileBuffer& buf) {
+    for (int y = buf.y0; y < buf.y1; ++y) {
+        const RowSpan& span = buf.rows[y - buf.y0];
+        const double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
+        std::int32_t* const o = buf.owner + std::size_t(y) * std::size_t(buf.width);
+        for (int x = span.lo; x < span.hi; ++x)
+            o[x] = d[x] == std::numeric_limits<double>::infinity() ? -1 : o[x];
+    }
+}
+
 constexpr std::uint32_t kDrawAhead = 4;   // bin entries between a prefetch and the draw that reads it
 
-// Clears tile k and draws its triangles, chunk by chunk (ascending ids); `depth` is the calling thread's
-// kTileW x kTileH tile depth.
+// Clears tile k's depth and spans, draws its triangles chunk by chunk (ascending ids), then marks the unowned
+// pixels of its spans; `depth` is the calling thread's kTileW x kTileH tile depth.
 void raster_tile(const TileContext& c, int k, double* depth) {
     const Tiling& g = *c.tiling;
     const int tx = k % g.tiles_x, ty = k / g.tiles_x;
@@ -551,10 +567,8 @@ void raster_tile(const TileContext& c, int k, double* depth) {
                    std::min(g.height, (ty + 1) * kTileH), depth, c.owner,
                    c.spans + std::size_t(tx) * std::size_t(g.height) + std::size_t(ty * kTileH)};
     for (int y = buf.y0; y < buf.y1; ++y) {
-        const std::size_t row = std::size_t(y) * std::size_t(g.width);
         double* const d = depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
         std::fill(d, d + (buf.x1 - buf.x0), std::numeric_limits<double>::infinity());
-        std::fill(c.owner + row + buf.x0, c.owner + row + buf.x1, -1);
         buf.rows[y - buf.y0] = RowSpan{buf.x1, buf.x0, 0};
     }
     for (std::size_t ci = 0; ci < c.chunks->size(); ++ci) {
@@ -570,6 +584,7 @@ void raster_tile(const TileContext& c, int k, double* depth) {
             draw_triangle(chunk.raster[std::size_t(local)], first + local, buf);
         }
     }
+    clear_unowned(buf);
 }
 
 // ------------------------------------------------------------------------------------------------------
@@ -930,8 +945,9 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
 }
 
 // The visibility buffer's memory (the owners; depth lives in each thread's tile), kept per calling thread
-// from one frame to the next: at 4096 x 4096 it is 67 MB, and fresh pages cost a page fault each. Every
-// byte is written before it is read in each frame (raster_tile clears its tile), so reuse changes nothing.
+// from one frame to the next: at 4096 x 4096 it is 67 MB, and fresh pages cost a page fault each. Emission
+// reads only owners inside the spans, which raster_tile sets in each frame, so reuse changes nothing (the array
+// is zeroed when it grows only so that depth_span never reads an indeterminate value).
 struct Scratch {
     std::unique_ptr<std::int32_t[]> owner;
     std::unique_ptr<RowSpan[]> spans;
@@ -944,6 +960,7 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
         s.owner.reset();
         s.owner.reset(new std::int32_t[pixels]);
         advise_huge_pages(s.owner.get(), pixels * sizeof(std::int32_t));
+        std::fill(s.owner.get(), s.owner.get() + pixels, 0);
         s.pixels = pixels;
     }
     if (rows > s.rows) {
