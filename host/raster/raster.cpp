@@ -34,6 +34,10 @@
 #include <tuple>
 #include <vector>
 
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
+
 #include "core/error.hpp"
 #include "raster/big_buffer.hpp"
 #include "raster/parallel.hpp"
@@ -441,22 +445,25 @@ struct RowSpan {
 };
 
 // The visibility buffer as draw_triangle updates it, restricted to one tile. Depth is +inf where no
-// triangle has been drawn yet (cleared with the owners when the tile starts). Only the owners outlive the
+// triangle has been drawn yet (cleared when the tile starts; the owners are not). Only the owners outlive the
 // tile (emission reads them), so depth is the drawing thread's own kTileW x kTileH array, which stays in
 // cache and is never written back over the whole frame (at 4096 x 4096 that saves 134 MB of writes).
 struct TileBuffer {
     int width;
     int x0, x1, y0, y1;       // the tile: [x0, x1) x [y0, y1)
     double* depth;            // NDC z of the nearest surface so far: pixel (x, y) at [(y - y0) kTileW + x - x0]
-    std::int32_t* owner;      // its set-up triangle id, -1 for none (the whole frame's, row stride `width`)
+    std::int32_t* owner;      // its set-up triangle id, -1 for none inside a row's span once the tile is drawn
+                              // (the whole frame's, row stride `width`)
     RowSpan* rows;            // rows[y - y0]
 };
 
 // Depth test of the covered pixel centres x in [xs, xe] of one row at NDC depth z = zy + dzdx (x + 0.5 - x0):
 // far plane (the near plane was clipped), then nearest wins; on an exact tie the earlier, lower-index
 // triangle keeps the pixel (strict <, ids ascending). Written without branches so that it vectorises;
-// depth starts at +inf, so an unowned pixel takes any z <= 1. Returns the pixels newly owned.
-// `d` is the tile row's depth, indexed x - tile_x0; `o` the frame row's owners, indexed x.
+// depth starts at +inf, so an unowned pixel takes any z <= 1, and a pixel is unowned exactly while its depth
+// is +inf (a taken z is <= 1). Returns the pixels newly owned.
+// `d` is the tile row's depth, indexed x - tile_x0; `o` the frame row's owners, indexed x (not cleared: an
+// unowned pixel's owner is whatever the last frame left, until clear_unowned).
 inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o, int tile_x0, int xs, int xe,
                                double zy, double dzdx, double x0, std::int32_t tid) {
     std::int32_t newly = 0;
@@ -465,7 +472,7 @@ inline std::int32_t depth_span(double* __restrict d, std::int32_t* __restrict o,
         const std::int32_t prev = o[x];
         double& dx = d[x - tile_x0];
         const bool take = (z <= 1.0) & (z < dx);
-        newly += std::int32_t(take & (prev < 0));
+        newly += std::int32_t(take & (dx == std::numeric_limits<double>::infinity()));
         dx = take ? z : dx;
         o[x] = take ? tid : prev;
     }
@@ -540,10 +547,23 @@ struct TileContext {
     RowSpan* spans;     // spans[tx * height + y]: row y within tile column tx
 };
 
+// Sets owner -1 on the pixels of each row's span that no triangle took (depth still +inf). Emission reads the
+// owners only inside the spans, so the rest of the frame's owners are never cleared: clearing the whole frame
+// (67 MB at 4096 x 4096) was a pass over memory that two threads shared and that did not scale.
+void clear_unowned(const TileBuffer& buf) {
+    for (int y = buf.y0; y < buf.y1; ++y) {
+        const RowSpan& span = buf.rows[y - buf.y0];
+        const double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
+        std::int32_t* const o = buf.owner + std::size_t(y) * std::size_t(buf.width);
+        for (int x = span.lo; x < span.hi; ++x)
+            o[x] = d[x] == std::numeric_limits<double>::infinity() ? -1 : o[x];
+    }
+}
+
 constexpr std::uint32_t kDrawAhead = 4;   // bin entries between a prefetch and the draw that reads it
 
-// Clears tile k and draws its triangles, chunk by chunk (ascending ids); `depth` is the calling thread's
-// kTileW x kTileH tile depth.
+// Clears tile k's depth and spans, draws its triangles chunk by chunk (ascending ids), then marks the unowned
+// pixels of its spans; `depth` is the calling thread's kTileW x kTileH tile depth.
 void raster_tile(const TileContext& c, int k, double* depth) {
     const Tiling& g = *c.tiling;
     const int tx = k % g.tiles_x, ty = k / g.tiles_x;
@@ -551,10 +571,8 @@ void raster_tile(const TileContext& c, int k, double* depth) {
                    std::min(g.height, (ty + 1) * kTileH), depth, c.owner,
                    c.spans + std::size_t(tx) * std::size_t(g.height) + std::size_t(ty * kTileH)};
     for (int y = buf.y0; y < buf.y1; ++y) {
-        const std::size_t row = std::size_t(y) * std::size_t(g.width);
         double* const d = depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
         std::fill(d, d + (buf.x1 - buf.x0), std::numeric_limits<double>::infinity());
-        std::fill(c.owner + row + buf.x0, c.owner + row + buf.x1, -1);
         buf.rows[y - buf.y0] = RowSpan{buf.x1, buf.x0, 0};
     }
     for (std::size_t ci = 0; ci < c.chunks->size(); ++ci) {
@@ -570,6 +588,7 @@ void raster_tile(const TileContext& c, int k, double* depth) {
             draw_triangle(chunk.raster[std::size_t(local)], first + local, buf);
         }
     }
+    clear_unowned(buf);
 }
 
 // ------------------------------------------------------------------------------------------------------
@@ -837,6 +856,77 @@ LaneBlock emit_lanes(const RunView& v, int xs) {
     return b;
 }
 
+#ifdef __AVX__
+// emit_lanes<kLanes> written out in AVX: GCC compiled that loop to pairs of 128-bit vectors (two vdivpd, two
+// vsqrtpd per block; preferring 256 bits left it scalar), so the block takes one 256-bit vector per step here.
+// The same operations in the same order, lane for lane (IEEE division, square root and double -> float
+// conversion are correctly rounded in vector and scalar alike), so every value is emit_lanes' own.
+static_assert(kLanes == 4, "one AVX vector of doubles per block");
+inline __m256d affine_at(const Affine& a, __m256d X, __m256d Y) {
+    return _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(a.c), _mm256_mul_pd(_mm256_set1_pd(a.cx), X)),
+                         _mm256_mul_pd(_mm256_set1_pd(a.cy), Y));
+}
+inline __m256d finite_v(__m256d v) {   // finite_d: |v| <= max (false for NaN)
+    const __m256d abs = _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    return _mm256_cmp_pd(abs, _mm256_set1_pd(std::numeric_limits<double>::max()), _CMP_LE_OQ);
+}
+inline __m256d sign_of(__m256d negative) {   // -1 where the mask is set, else 1
+    return _mm256_blendv_pd(_mm256_set1_pd(1.0), _mm256_set1_pd(-1.0), negative);
+}
+inline void store_f(float* to, __m256d v) { _mm_storeu_ps(to, _mm256_cvtpd_ps(v)); }
+
+LaneBlock emit_lanes_avx(const RunView& v, int xs) {
+    const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+    const __m256d X = _mm256_sub_pd(_mm256_add_pd(_mm256_setr_pd(xs, xs + 1, xs + 2, xs + 3), _mm256_set1_pd(0.5)),
+                                    _mm256_set1_pd(v.x0));
+    const __m256d Y = _mm256_set1_pd(v.Y);
+    const __m256d ex = _mm256_set1_pd(v.ex), ey = _mm256_set1_pd(v.ey), ez = _mm256_set1_pd(v.ez);
+    const __m256d s = affine_at(v.q, X, Y);
+    const __m256d inv = _mm256_div_pd(one, s);
+    const __m256d Px = _mm256_mul_pd(affine_at(v.P0, X, Y), inv), Py = _mm256_mul_pd(affine_at(v.P1, X, Y), inv),
+                  Pz = _mm256_mul_pd(affine_at(v.P2, X, Y), inv);
+    const __m256d sign = sign_of(_mm256_cmp_pd(s, zero, _CMP_LT_OQ));
+    __m256d Nx = _mm256_mul_pd(affine_at(v.N0, X, Y), sign), Ny = _mm256_mul_pd(affine_at(v.N1, X, Y), sign),
+            Nz = _mm256_mul_pd(affine_at(v.N2, X, Y), sign);
+    const __m256d len = _mm256_sqrt_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, Nx), _mm256_mul_pd(Ny, Ny)), _mm256_mul_pd(Nz, Nz)));
+    const __m256d k = _mm256_div_pd(one, len);
+    Nx = _mm256_mul_pd(Nx, k);
+    Ny = _mm256_mul_pd(Ny, k);
+    Nz = _mm256_mul_pd(Nz, k);
+    const __m256d facing = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, _mm256_sub_pd(ex, Px)),
+                                                       _mm256_mul_pd(Ny, _mm256_sub_pd(ey, Py))),
+                                         _mm256_mul_pd(Nz, _mm256_sub_pd(ez, Pz)));
+    const __m256d back = _mm256_cmp_pd(facing, zero, _CMP_LT_OQ);
+    const __m256d turn = sign_of(v.flip ? back : zero);
+    Nx = _mm256_mul_pd(Nx, turn);
+    Ny = _mm256_mul_pd(Ny, turn);
+    Nz = _mm256_mul_pd(Nz, turn);
+    const __m256d ok = _mm256_and_pd(_mm256_and_pd(finite_v(inv), _mm256_cmp_pd(len, zero, _CMP_GT_OQ)), finite_v(len));
+    const int good = _mm256_movemask_pd(ok);
+    LaneBlock b;
+    for (int i = 0; i < kLanes; ++i) {
+        b.fix[i] = std::int32_t(((good >> i) & 1) == 0);
+        b.pixel[i] = v.row + xs + i;
+        b.triangle[i] = v.tri;
+    }
+    store_f(b.px, Px);
+    store_f(b.py, Py);
+    store_f(b.pz, Pz);
+    store_f(b.nx, Nx);
+    store_f(b.ny, Ny);
+    store_f(b.nz, Nz);
+    const __m256d depth = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(Px, ex), _mm256_set1_pd(v.fx)),
+                      _mm256_mul_pd(_mm256_sub_pd(Py, ey), _mm256_set1_pd(v.fy))),
+        _mm256_mul_pd(_mm256_sub_pd(Pz, ez), _mm256_set1_pd(v.fz)));
+    store_f(b.depth, depth);
+    store_f(b.b1, _mm256_mul_pd(affine_at(v.B1, X, Y), inv));
+    store_f(b.b2, _mm256_mul_pd(affine_at(v.B2, X, Y), inv));
+    return b;
+}
+#endif
+
 // The first m lanes of `b` into slots o .. o + m of the run's arrays: M > 0 stores the constant count M (a copy
 // of constant size: one vector or scalar store per array), M == 0 the count n.
 template <int M>
@@ -870,7 +960,11 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
     const RunView v = run_view(c, r, y, at, fb);
     for (int b0 = xa; b0 < xb; b0 += kLanes) {
         const int n = std::min(kLanes, xb - b0), o = b0 - xa;
+#ifdef __AVX__
+        const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes_avx(v, b0);
+#else
         const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes<kLanes>(v, b0);
+#endif
         if (n == 1)
             store_lanes<1>(lanes, n, o, v);
         else if (at + std::size_t(o + kLanes) <= room)
@@ -930,8 +1024,9 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
 }
 
 // The visibility buffer's memory (the owners; depth lives in each thread's tile), kept per calling thread
-// from one frame to the next: at 4096 x 4096 it is 67 MB, and fresh pages cost a page fault each. Every
-// byte is written before it is read in each frame (raster_tile clears its tile), so reuse changes nothing.
+// from one frame to the next: at 4096 x 4096 it is 67 MB, and fresh pages cost a page fault each. Emission
+// reads only owners inside the spans, which raster_tile sets in each frame, so reuse changes nothing (the array
+// is zeroed when it grows only so that depth_span never reads an indeterminate value).
 struct Scratch {
     std::unique_ptr<std::int32_t[]> owner;
     std::unique_ptr<RowSpan[]> spans;
@@ -944,6 +1039,7 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
         s.owner.reset();
         s.owner.reset(new std::int32_t[pixels]);
         advise_huge_pages(s.owner.get(), pixels * sizeof(std::int32_t));
+        std::fill(s.owner.get(), s.owner.get() + pixels, 0);
         s.pixels = pixels;
     }
     if (rows > s.rows) {
