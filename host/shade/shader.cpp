@@ -10,6 +10,7 @@
 #include "consts/scene.h"   // DeviceLight, DeviceView, shared with kernels/shade.cl
 #include "core/error.hpp"
 #include "models/catalogue.hpp"
+#include "raster/big_buffer.hpp"
 
 namespace shadelab {
 
@@ -64,31 +65,24 @@ glm::dvec4 checked_view(const glm::dvec4& v) {
     return glm::dvec4(glm::dvec3(v) / len, 0.0);
 }
 
-// Planes of `padded` floats -> planes of n (the launch's padding dropped).
-void unpad_planes(std::vector<float>& out, std::size_t n, std::size_t padded) {
-    if (padded == n) return;
-    std::copy(out.begin() + padded, out.begin() + padded + n, out.begin() + n);
-    std::copy(out.begin() + 2 * padded, out.begin() + 2 * padded + n, out.begin() + 2 * n);
-    out.resize(3 * n);
-}
-
 double ms_between(const cl::Event& e) {
     const auto t0 = e.getProfilingInfo<CL_PROFILING_COMMAND_START>();
     const auto t1 = e.getProfilingInfo<CL_PROFILING_COMMAND_END>();
     return double(t1 - t0) * 1e-6;
 }
 
-// A read-only buffer of `padded` floats holding v's n. The n floats go straight into the buffer (no padded host
-// copy); the padding is zero-filled and shades (0, 0, 0) fragments, never read back.
-cl::Buffer padded_input(cl::Context& ctx, cl::CommandQueue& q, const std::vector<float>& v, std::size_t n,
-                        std::size_t padded) {
-    const std::size_t bytes = padded * sizeof(float);
-    if (padded == n)
-        return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
-    cl::Buffer b(ctx, CL_MEM_READ_ONLY, bytes);
-    q.enqueueWriteBuffer(b, CL_TRUE, 0, n * sizeof(float), v.data());
-    q.enqueueFillBuffer(b, 0.0f, n * sizeof(float), bytes - n * sizeof(float));
-    return b;
+// A read-only buffer over the first `count` floats of v, in place: PoCL's CPU device reads host memory given
+// with CL_MEM_USE_HOST_PTR directly (whatever its alignment), so no copy is made. The kernel never writes it.
+cl::Buffer in_place(cl::Context& ctx, const std::vector<float>& v, std::size_t count) {
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, count * sizeof(float), const_cast<float*>(v.data()));
+}
+
+// A read-only buffer of `padded` floats: v's floats from `first` on (fewer than `padded`), then zeros that
+// shade (0, 0, 0) fragments, never read back. Only the launch's tail needs it.
+cl::Buffer padded_copy(cl::Context& ctx, const std::vector<float>& v, std::size_t first, std::size_t padded) {
+    std::vector<float> h(padded, 0.0f);
+    std::copy(v.begin() + std::ptrdiff_t(first), v.end(), h.begin());
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, padded * sizeof(float), h.data());
 }
 
 // The knot count a table model's program is built for: the material's, rounded up to 4, 8, 16 or the most the
@@ -224,6 +218,52 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     return {"shade.cl", defines, Shader::options_for(precision)};
 }
 
+namespace {
+
+// The per-launch arguments of a shade kernel (kernels/shade_fragments.cl: the six input planes, the output and
+// its plane stride); the others are the same for every launch of a frame.
+struct LaunchBuffers {
+    cl::Buffer in[6];
+    cl::Buffer out;
+    std::size_t stride = 0;
+};
+
+// The six planes of `fb`: the first `body` fragments in place (zero-copy), else the tail from `body` on, copied
+// and padded to `padded`.
+LaunchBuffers fragment_planes(cl::Context& ctx, const FragmentBuffer& fb, bool in_place_body, std::size_t body,
+                              std::size_t padded) {
+    const std::vector<float>* planes[6] = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz};
+    LaunchBuffers b;
+    for (int c = 0; c < 6; ++c)
+        b.in[c] = in_place_body ? in_place(ctx, *planes[c], body) : padded_copy(ctx, *planes[c], body, padded);
+    return b;
+}
+
+// Enqueues one launch of `count` work-items (a multiple of the work-group size unless `local` is kLocalAuto).
+cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers& b, std::size_t count,
+                         std::size_t local) {
+    for (cl_uint c = 0; c < 6; ++c) k.setArg(c, b.in[c]);
+    k.setArg(6, b.out);
+    k.setArg(7, cl_uint(b.stride));
+    cl::Event ev;
+    const cl::NDRange groups = local == Shader::kLocalAuto ? cl::NullRange : cl::NDRange(local);
+    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), groups, nullptr, &ev);
+    return ev;
+}
+
+// Maps `buf` (`floats` long) for reading, which makes the kernel's writes visible at `host` (on a CPU device
+// the mapping is the host memory itself: no copy), and unmaps it.
+void sync_to_host(cl::CommandQueue& q, const cl::Buffer& buf, float* host, std::size_t floats) {
+    void* mapped = q.enqueueMapBuffer(buf, CL_TRUE, CL_MAP_READ, 0, floats * sizeof(float));
+    if (mapped != host) std::memcpy(host, mapped, floats * sizeof(float));
+    q.enqueueUnmapMemObject(buf, mapped);
+}
+
+}  // namespace
+
+// The kernel has no bounds check, so each launch covers a whole number of work-groups: the body (n rounded down
+// to the work-group size) reads the fragment planes and writes `out` in place, with no copy either way; the
+// tail (fewer than a work-group) goes through small padded copies in a second launch.
 std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& setup, ShadeTiming* timing) {
     const Material mat = resolve_material(setup.material);
     const std::size_t n = fb.size();
@@ -234,60 +274,59 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     const glm::dvec4 view = checked_view(setup.view);
 
     using clock = std::chrono::steady_clock;
-    // Every buffer is padded to the launch size (n rounded up to the work-group size): the kernel has no bounds
-    // check, which keeps its constant loads hoisted out of the vectorised work-item loop (kernels/shade.cl).
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
-    const std::size_t padded = round_up(n, local == kLocalAuto ? kLocalSize : local);
-    std::vector<float> out(3 * padded);
+    const std::size_t group = local == kLocalAuto ? kLocalSize : local;
+    const std::size_t body = n / group * group, tail = n - body;
+    // `out`'s pages are touched here (zero-filled, huge pages advised: a 4096x4096 frame's 44 MB took ~26 ms of
+    // 4 KB page faults), not first-touched page by page inside the kernel's time.
+    std::vector<float> out, tail_out(tail ? 3 * group : 0);
+    resize_fresh(out, 3 * n);
     try {
         const auto t0 = clock::now();
         cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision));
         const auto t1 = clock::now();
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
-        const std::size_t bytes = padded * sizeof(float);
-        auto ro = [&](const std::vector<float>& v) { return padded_input(ctx, q, v, n, padded); };
-        cl::Buffer bpx = ro(fb.px), bpy = ro(fb.py), bpz = ro(fb.pz), bnx = ro(fb.nx), bny = ro(fb.ny),
-                   bnz = ro(fb.nz);
-        // The output lives in `out`, whose pages the host has already touched (zero-filled): on a CPU device
-        // the kernel then writes straight into it, instead of first-touching a fresh buffer page by page
-        // (page faults inside the kernel's time) and copying it back afterwards.
-        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, 3 * bytes, out.data());
+        LaunchBuffers main, rest;
+        if (body) {
+            main = fragment_planes(ctx, fb, true, body, body);
+            main.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size() * sizeof(float), out.data());
+            main.stride = n;
+        }
+        if (tail) {
+            rest = fragment_planes(ctx, fb, false, body, group);
+            rest.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, tail_out.size() * sizeof(float),
+                                  tail_out.data());
+            rest.stride = group;
+        }
         cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
                            const_cast<ModelConsts*>(consts.data()));
         cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(DeviceLight),
                            const_cast<DeviceLight*>(lights.data()));
         cl::Buffer btab = table_buffer(ctx, mat);
         const auto t2 = clock::now();
-        k.setArg(0, bpx); k.setArg(1, bpy); k.setArg(2, bpz);
-        k.setArg(3, bnx); k.setArg(4, bny); k.setArg(5, bnz);
-        k.setArg(6, bout);
-        k.setArg(7, cl_uint(padded));   // the plane stride of `out`
         const DeviceView dview{{float(view.x), float(view.y), float(view.z)}, float(view.w)};
         k.setArg(8, sizeof dview, &dview);
         k.setArg(9, bconsts);
         k.setArg(10, blights);
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
         k.setArg(12, btab);
-        cl::Event ev;
-        if (local == kLocalAuto)
-            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NullRange, nullptr, &ev);
-        else
-            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NDRange(local), nullptr, &ev);
-        ev.wait();
-        const auto t3 = clock::now();
-        // A mapping makes the kernel's writes visible in `out` (no copy on a CPU device).
-        void* mapped = q.enqueueMapBuffer(bout, CL_TRUE, CL_MAP_READ, 0, 3 * bytes);
-        if (mapped != out.data()) std::memcpy(out.data(), mapped, 3 * bytes);
-        q.enqueueUnmapMemObject(bout, mapped);
+        cl::Event ev_main, ev_rest;
+        if (body) ev_main = enqueue_launch(q, k, main, body, local);
+        if (tail) ev_rest = enqueue_launch(q, k, rest, group, local);
         q.finish();
-        unpad_planes(out, n, padded);
+        const auto t3 = clock::now();
+        if (body) sync_to_host(q, main.out, out.data(), out.size());
+        if (tail) sync_to_host(q, rest.out, tail_out.data(), tail_out.size());
+        q.finish();
+        for (std::size_t c = 0; c < 3 && tail; ++c)
+            std::copy_n(tail_out.begin() + std::ptrdiff_t(c * group), tail, out.begin() + std::ptrdiff_t(c * n + body));
         const auto t4 = clock::now();
         if (timing) {
             auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
             timing->build_ms = ms(t0, t1);
             timing->upload_ms = ms(t1, t2);
-            timing->kernel_ms = ms_between(ev);
+            timing->kernel_ms = (body ? ms_between(ev_main) : 0.0) + (tail ? ms_between(ev_rest) : 0.0);
             timing->download_ms = ms(t3, t4);
         }
     } catch (const cl::Error& e) {

@@ -35,8 +35,12 @@ struct ShadeSetup {
 
 struct ShadeTiming {
     double build_ms = 0.0;     // program build (0 when cached)
+    // Buffer set-up: the fragment planes are used in place (no copy on a CPU device); only the tail of fewer
+    // than a work-group of fragments is copied (padded), with the material's constants and lights.
     double upload_ms = 0.0;
-    double kernel_ms = 0.0;    // device time of the kernel (profiling events)
+    double kernel_ms = 0.0;    // device time of the kernel launches (profiling events)
+    // Making the results visible to the host: a map of the output (no copy on a CPU device), then the tail's
+    // few results copied into place.
     double download_ms = 0.0;
 };
 
