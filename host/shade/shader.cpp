@@ -2,6 +2,7 @@
 #include "shade/shade_program.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -228,14 +229,22 @@ struct LaunchBuffers {
     std::size_t stride = 0;
 };
 
-// The six planes of `fb`: the first `body` fragments in place (zero-copy), else the tail from `body` on, copied
-// and padded to `padded`.
-LaunchBuffers fragment_planes(cl::Context& ctx, const FragmentBuffer& fb, bool in_place_body, std::size_t body,
-                              std::size_t padded) {
-    const std::vector<float>* planes[6] = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz};
+// The six planes of `fb`, in the kernel's argument order.
+std::array<const std::vector<float>*, 6> planes_of(const FragmentBuffer& fb) {
+    return {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz};
+}
+
+// The body's inputs: the first `body` fragments of each plane, in place (zero-copy).
+LaunchBuffers body_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t body) {
     LaunchBuffers b;
-    for (int c = 0; c < 6; ++c)
-        b.in[c] = in_place_body ? in_place(ctx, *planes[c], body) : padded_copy(ctx, *planes[c], body, padded);
+    for (int c = 0; c < 6; ++c) b.in[c] = in_place(ctx, *planes_of(fb)[std::size_t(c)], body);
+    return b;
+}
+
+// The tail's inputs: each plane from `body` on, copied and padded to one work-group of `group` fragments.
+LaunchBuffers tail_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t body, std::size_t group) {
+    LaunchBuffers b;
+    for (int c = 0; c < 6; ++c) b.in[c] = padded_copy(ctx, *planes_of(fb)[std::size_t(c)], body, group);
     return b;
 }
 
@@ -289,12 +298,12 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
         auto& q = rt_.queue();
         LaunchBuffers main, rest;
         if (body) {
-            main = fragment_planes(ctx, fb, true, body, body);
+            main = body_planes(ctx, fb, body);
             main.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size() * sizeof(float), out.data());
             main.stride = n;
         }
         if (tail) {
-            rest = fragment_planes(ctx, fb, false, body, group);
+            rest = tail_planes(ctx, fb, body, group);
             rest.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, tail_out.size() * sizeof(float),
                                   tail_out.data());
             rest.stride = group;
