@@ -411,13 +411,15 @@ struct SlTimes {
 };
 
 // One shadelab frame, as `shadelab render` does it: rasterise (2 threads), shade on the OpenCL device,
-// compose the RGBA float image (alpha = coverage) in memory. The fragment buffer `fb` and the image `img`
-// are the caller's, kept from frame to frame as a renderer keeps its buffers (and as the llvmpipe side keeps
-// its framebuffer and read-back buffer); `fresh` empties them first, so every frame pays fresh pages.
+// compose the RGBA float image (alpha = coverage) in memory. The fragment buffer `fb`, the shaded planes
+// `rgb` and the image `img` are the caller's, kept from frame to frame as a renderer keeps its buffers (and as
+// the llvmpipe side keeps its framebuffer and read-back buffer); `fresh` empties them first, so every frame
+// pays fresh pages.
 void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shader, const ShadeSetup& setup,
-                    bool fresh, FragmentBuffer& fb, Image& img, SlTimes& t) {
+                    bool fresh, FragmentBuffer& fb, std::vector<float>& rgb, Image& img, SlTimes& t) {
     if (fresh) {
         fb = FragmentBuffer{};
+        std::vector<float>().swap(rgb);
         img = Image{};
     }
     const auto t0 = clock_type::now();
@@ -429,7 +431,7 @@ void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shad
     rasterize_into(mesh, s.camera, ro, fb, &rs);
     const auto t1 = clock_type::now();
     ShadeTiming st;
-    const std::vector<float> rgb = shader.shade(fb, setup, &st);
+    shader.shade_into(fb, setup, rgb, &st);
     const auto t2 = clock_type::now();
     compose_image_into(fb, rgb, glm::dvec4(0.0), img);
     const auto t3 = clock_type::now();
@@ -608,6 +610,7 @@ ModelFrames time_model(const Options& o, const std::string& glsl_dir, Shader& sh
     gl_frame(gl_mesh, target, rgba);
     ShadeSetup setups[2];
     FragmentBuffer sl_fb[2];
+    std::vector<float> sl_rgb[2];
     SlTimes t;
     for (int m = 0; m < 2; ++m) {
         setups[m].material = mat;
@@ -615,7 +618,7 @@ ModelFrames time_model(const Options& o, const std::string& glsl_dir, Shader& sh
         setups[m].ambient = scene.ambient;
         setups[m].view = glm::dvec4(scene.camera.eye, 1.0);
         setups[m].precision = kModes[m];
-        shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], fr.sl_img[m], t);
+        shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], sl_rgb[m], fr.sl_img[m], t);
         fr.sl_best[m].total = 1e30;
     }
     // Timed frames, interleaved (llvmpipe, shadelab precise, shadelab fast, again ...) so that load
@@ -624,7 +627,7 @@ ModelFrames time_model(const Options& o, const std::string& glsl_dir, Shader& sh
         const GlTimes g = gl_frame(gl_mesh, target, rgba);
         if (g.total < fr.gl_best.total) fr.gl_best = g;
         for (int m = 0; m < 2; ++m) {
-            shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], fr.sl_img[m], t);
+            shadelab_frame(mesh, scene, w, h, shader, setups[m], o.fresh_buffers, sl_fb[m], sl_rgb[m], fr.sl_img[m], t);
             if (t.total < fr.sl_best[m].total) fr.sl_best[m] = t;
         }
     }
@@ -715,9 +718,9 @@ void print_preamble(const Options& o, Runtime& rt, const GlContext& gl) {
                 "  of those covered by either. shadelab breakdown (ms): kernel is device time, other = the rest\n",
                 o.frames, o.target);
     std::printf("buffers: %s\n", o.fresh_buffers
-                    ? "shadelab's fragment buffer and image allocated anew every frame (--fresh-buffers)"
-                    : "shadelab's fragment buffer and image kept from frame to frame (llvmpipe keeps its framebuffer "
-                      "and read-back buffer); the shaded planes are Shader::shade's, new every frame");
+                    ? "shadelab's fragment buffer, shaded planes and image allocated anew every frame (--fresh-buffers)"
+                    : "shadelab's fragment buffer, shaded planes (Shader::shade_into) and image kept from frame to "
+                      "frame (llvmpipe keeps its framebuffer and read-back buffer)");
 }
 
 // The summary against the target, and where shadelab's time went.
@@ -810,8 +813,8 @@ int main(int argc, char** argv) {
     app.add_option("--csv", o.csv, "Also write the table as CSV to this file");
     app.add_option("--images", o.images, "Write each image pair (.exr) and its Delta E map (.png) into this folder");
     app.add_flag("--fresh-buffers", o.fresh_buffers,
-                 "Allocate shadelab's fragment buffer and image anew every frame (default: kept between frames, as "
-                 "llvmpipe keeps its framebuffer)");
+                 "Allocate shadelab's fragment buffer, shaded planes and image anew every frame (default: kept "
+                 "between frames, as llvmpipe keeps its framebuffer)");
     app.add_option("--target", o.target, "Speed-up target of shadelab over llvmpipe")->capture_default_str();
     app.add_option("--max-mean-de", o.max_mean_de, "Fail when the mean CIEDE2000 of a pair exceeds this")
         ->capture_default_str();

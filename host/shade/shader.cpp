@@ -274,9 +274,19 @@ void sync_to_host(cl::CommandQueue& q, const cl::Buffer& buf, float* host, std::
 // to the work-group size) reads the fragment planes and writes `out` in place, with no copy either way; the
 // tail (fewer than a work-group) goes through small padded copies in a second launch.
 std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& setup, ShadeTiming* timing) {
+    std::vector<float> out;
+    shade_into(fb, setup, out, timing);
+    return out;
+}
+
+void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::vector<float>& out,
+                        ShadeTiming* timing) {
     const Material mat = resolve_material(setup.material);
     const std::size_t n = fb.size();
-    if (n == 0) return {};
+    if (n == 0) {
+        out.clear();
+        return;
+    }
     if (n > 0xffffffffu) throw Error("fragment buffer too large for one launch (" + std::to_string(n) + ")");
     const auto consts = pack_material(mat);
     const auto lights = pack_lights(setup.lights);
@@ -286,10 +296,11 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
     const std::size_t body = n / group * group, tail = n - body;
-    // `out`'s pages are touched here (zero-filled, huge pages advised: a 4096x4096 frame's 44 MB took ~26 ms of
-    // 4 KB page faults), not first-touched page by page inside the kernel's time.
-    std::vector<float> out, tail_out(tail ? 3 * group : 0);
-    resize_fresh(out, 3 * n);
+    // Fresh `out` pages are touched here (zero-filled, huge pages advised: a 4096x4096 frame's 44 MB took ~26 ms
+    // of 4 KB page faults), not first-touched page by page inside the kernel's time; `out`'s own memory is
+    // reused when it is large enough (a renderer's next frame: the zero-fill was another 6-8 ms at 4096x4096).
+    std::vector<float> tail_out(tail ? 3 * group : 0);
+    size_for_frame(out, 3 * n);
     try {
         const auto t0 = clock::now();
         cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision));
@@ -341,7 +352,6 @@ std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& set
     } catch (const cl::Error& e) {
         rethrow_cl(e, "shading " + std::to_string(n) + " fragments with model '" + mat.model + "'");
     }
-    return out;
 }
 
 std::vector<float> Shader::eval_directions(const Material& material, const std::vector<float>& N,
