@@ -67,10 +67,12 @@ const std::vector<Light> kDirectionalAndPoint{
 
 }  // namespace
 
+// Both kinds of shared program: one kernel per model, and one dispatching kernel for all (`dispatch`).
 TEST_CASE("shade: one shared program gives each model's own program's pixels, bit for bit", "[shade][shade_many]") {
     const std::vector<std::string> models = family_models();
     REQUIRE(models.size() >= 4);
     const FragmentBuffer fb = random_fragments(1000, 7);   // not a multiple of the work-group size: padding too
+    for (bool dispatch : {false, true})
     for (Precision p : {Precision::Precise, Precision::Fast})
         for (const auto* lights : {&kOneDirectional, &kDirectionalAndPoint}) {
             Runtime rt(RuntimeOptions{"", -1, "", "off"});
@@ -78,10 +80,11 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
             std::vector<Material> mats;
             for (const auto& name : models) mats.push_back(default_of(name));
             const std::size_t before = rt.programs_built();
-            REQUIRE(shared.prepare_many(mats, *lights, p) == models.size());
+            REQUIRE(shared.prepare_many(mats, *lights, p, dispatch) == models.size());
             CHECK(rt.programs_built() == before + 1);   // one program for them all
             for (const Material& m : mats) {
-                INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)");
+                INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)"
+                              << (dispatch ? ", dispatching kernel" : ""));
                 const std::vector<float> a = own.shade(fb, setup_of(m, *lights, p));
                 const std::vector<float> b = shared.shade(fb, setup_of(m, *lights, p));
                 REQUIRE(a.size() == 3 * fb.size());
