@@ -1,13 +1,17 @@
 // The fragment-shading kernel, named SL_SHADE_KERNEL, for the model SL_EVAL: kernels/shade.cl includes it
 // once (as shade_fragments), kernels/shade_many.cl once per model (as shade_fragments_<eval function>).
 // No include guard on purpose. Needs kernels/shade_parts.cl and the model's header included before it.
+// SL_SHADE_EXTRA_ARGS, when defined, adds arguments after `tab` (shade_many.cl's dispatching kernel: its model).
+#ifndef SL_SHADE_EXTRA_ARGS
+#define SL_SHADE_EXTRA_ARGS
+#endif
 // One fragment: sum over lights of incident * model, plus ambient * albedo.
 __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const float* restrict py,
                               __global const float* restrict pz, __global const float* restrict nx,
                               __global const float* restrict ny, __global const float* restrict nz,
                               __global float* restrict out, const uint stride, const DeviceView view,
                               __constant const ModelConsts* mc_arg, __constant const DeviceLight* lights_arg,
-                              const float4 ambient, __global const float* restrict tab) {
+                              const float4 ambient, __global const float* restrict tab SL_SHADE_EXTRA_ARGS) {
     (void)tab;
     // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
     // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,

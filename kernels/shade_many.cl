@@ -66,6 +66,216 @@
 #endif
 #include "shade_parts.cl"
 
+#if defined(SL_DISPATCH) && SL_DISPATCH
+// SL_DISPATCH=1: one kernel for all the models, shade_fragments_any, whose last argument `sl_model` (the same for
+// every work-item) picks the eval function SL_EVAL_<sl_model>. PoCL compiles a kernel's work-group function at
+// its first launch, about 0.09 s of CPU each whatever its size: one kernel for the contact sheet's 43 models
+// pays that once. The eval functions are the same code as in the per-model kernels, called the same way, so the
+// results are bit for bit theirs (tests/test_shade_many.cpp); the branch on sl_model is uniform but inside the
+// work-item loop, which keeps it from being vectorised: for a cold run of many small launches only (the contact
+// sheet), not for speed.
+SL_INLINE sl_rgb sl_eval_any(uint model, sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
+    switch (model) {
+#ifdef SL_EVAL_0
+    case 0: return SL_EVAL_0(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_1
+    case 1: return SL_EVAL_1(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_2
+    case 2: return SL_EVAL_2(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_3
+    case 3: return SL_EVAL_3(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_4
+    case 4: return SL_EVAL_4(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_5
+    case 5: return SL_EVAL_5(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_6
+    case 6: return SL_EVAL_6(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_7
+    case 7: return SL_EVAL_7(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_8
+    case 8: return SL_EVAL_8(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_9
+    case 9: return SL_EVAL_9(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_10
+    case 10: return SL_EVAL_10(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_11
+    case 11: return SL_EVAL_11(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_12
+    case 12: return SL_EVAL_12(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_13
+    case 13: return SL_EVAL_13(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_14
+    case 14: return SL_EVAL_14(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_15
+    case 15: return SL_EVAL_15(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_16
+    case 16: return SL_EVAL_16(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_17
+    case 17: return SL_EVAL_17(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_18
+    case 18: return SL_EVAL_18(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_19
+    case 19: return SL_EVAL_19(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_20
+    case 20: return SL_EVAL_20(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_21
+    case 21: return SL_EVAL_21(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_22
+    case 22: return SL_EVAL_22(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_23
+    case 23: return SL_EVAL_23(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_24
+    case 24: return SL_EVAL_24(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_25
+    case 25: return SL_EVAL_25(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_26
+    case 26: return SL_EVAL_26(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_27
+    case 27: return SL_EVAL_27(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_28
+    case 28: return SL_EVAL_28(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_29
+    case 29: return SL_EVAL_29(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_30
+    case 30: return SL_EVAL_30(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_31
+    case 31: return SL_EVAL_31(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_32
+    case 32: return SL_EVAL_32(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_33
+    case 33: return SL_EVAL_33(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_34
+    case 34: return SL_EVAL_34(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_35
+    case 35: return SL_EVAL_35(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_36
+    case 36: return SL_EVAL_36(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_37
+    case 37: return SL_EVAL_37(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_38
+    case 38: return SL_EVAL_38(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_39
+    case 39: return SL_EVAL_39(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_40
+    case 40: return SL_EVAL_40(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_41
+    case 41: return SL_EVAL_41(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_42
+    case 42: return SL_EVAL_42(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_43
+    case 43: return SL_EVAL_43(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_44
+    case 44: return SL_EVAL_44(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_45
+    case 45: return SL_EVAL_45(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_46
+    case 46: return SL_EVAL_46(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_47
+    case 47: return SL_EVAL_47(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_48
+    case 48: return SL_EVAL_48(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_49
+    case 49: return SL_EVAL_49(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_50
+    case 50: return SL_EVAL_50(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_51
+    case 51: return SL_EVAL_51(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_52
+    case 52: return SL_EVAL_52(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_53
+    case 53: return SL_EVAL_53(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_54
+    case 54: return SL_EVAL_54(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_55
+    case 55: return SL_EVAL_55(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_56
+    case 56: return SL_EVAL_56(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_57
+    case 57: return SL_EVAL_57(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_58
+    case 58: return SL_EVAL_58(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_59
+    case 59: return SL_EVAL_59(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_60
+    case 60: return SL_EVAL_60(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_61
+    case 61: return SL_EVAL_61(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_62
+    case 62: return SL_EVAL_62(N, L, V, P, mc);
+#endif
+#ifdef SL_EVAL_63
+    case 63: return SL_EVAL_63(N, L, V, P, mc);
+#endif
+    default: return sl_rgb_make(0.0f, 0.0f, 0.0f);   // not reached: Shader::prepare_many passes a slot in use
+    }
+}
+#define SL_SHADE_KERNEL shade_fragments_any
+#define SL_SHADE_EXTRA_ARGS , const uint sl_model
+#define SL_EVAL(N, L, V, P, mc) sl_eval_any(sl_model, N, L, V, P, mc)
+#include "shade_fragments.cl"
+#else
 #define SL_CAT_(a, b) a##b
 #define SL_CAT(a, b) SL_CAT_(a, b)
 #define SL_SHADE_KERNEL SL_CAT(shade_fragments_, SL_EVAL)
@@ -388,4 +598,5 @@
 #define SL_EVAL SL_EVAL_63
 #include "shade_fragments.cl"
 #undef SL_EVAL
+#endif
 #endif

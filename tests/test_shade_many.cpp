@@ -67,29 +67,53 @@ const std::vector<Light> kDirectionalAndPoint{
 
 }  // namespace
 
+// Both kinds of shared program: one kernel per model, and one dispatching kernel for all (`dispatch`).
 TEST_CASE("shade: one shared program gives each model's own program's pixels, bit for bit", "[shade][shade_many]") {
     const std::vector<std::string> models = family_models();
     REQUIRE(models.size() >= 4);
     const FragmentBuffer fb = random_fragments(1000, 7);   // not a multiple of the work-group size: padding too
-    for (Precision p : {Precision::Precise, Precision::Fast})
-        for (const auto* lights : {&kOneDirectional, &kDirectionalAndPoint}) {
-            Runtime rt(RuntimeOptions{"", -1, "", "off"});
-            Shader own(rt), shared(rt);
-            std::vector<Material> mats;
-            for (const auto& name : models) mats.push_back(default_of(name));
-            const std::size_t before = rt.programs_built();
-            REQUIRE(shared.prepare_many(mats, *lights, p) == models.size());
-            CHECK(rt.programs_built() == before + 1);   // one program for them all
-            for (const Material& m : mats) {
-                INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)");
-                const std::vector<float> a = own.shade(fb, setup_of(m, *lights, p));
-                const std::vector<float> b = shared.shade(fb, setup_of(m, *lights, p));
-                REQUIRE(a.size() == 3 * fb.size());
-                CHECK(same_bits(a, b));
+    for (bool dispatch : {false, true})
+        for (Precision p : {Precision::Precise, Precision::Fast})
+            for (const auto* lights : {&kOneDirectional, &kDirectionalAndPoint}) {
+                Runtime rt(RuntimeOptions{"", -1, "", "off"});
+                Shader own(rt), shared(rt);
+                std::vector<Material> mats;
+                for (const auto& name : models) mats.push_back(default_of(name));
+                const std::size_t before = rt.programs_built();
+                REQUIRE(shared.prepare_many(mats, *lights, p, dispatch) == models.size());
+                CHECK(rt.programs_built() == before + 1);   // one program for them all
+                for (const Material& m : mats) {
+                    INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)"
+                                  << (dispatch ? ", dispatching kernel" : ""));
+                    const std::vector<float> a = own.shade(fb, setup_of(m, *lights, p));
+                    const std::vector<float> b = shared.shade(fb, setup_of(m, *lights, p));
+                    REQUIRE(a.size() == 3 * fb.size());
+                    CHECK(same_bits(a, b));
+                }
+                // `own` built one program per model, `shared` none beyond its one
+                CHECK(rt.programs_built() == before + 1 + models.size());
             }
-            // `own` built one program per model, `shared` none beyond its one
-            CHECK(rt.programs_built() == before + 1 + models.size());
-        }
+}
+
+// Every model of the catalogue (as the contact sheet shades them): the dispatching kernel, one switch over all the
+// shareable models' eval functions, gives the per-model kernels' pixels, bit for bit.
+TEST_CASE("shade: the dispatching kernel over the whole catalogue gives each model's kernel's pixels, bit for bit",
+          "[shade][shade_many]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    Shader per_model(rt), dispatching(rt);
+    std::vector<Material> mats;
+    for (const auto& info : model_catalogue()) mats.push_back(default_of(info.name));
+    const std::size_t shared = per_model.prepare_many(mats, kOneDirectional, Precision::Precise, false);
+    REQUIRE(shared > 8);
+    REQUIRE(dispatching.prepare_many(mats, kOneDirectional, Precision::Precise, true) == shared);
+    const FragmentBuffer fb = random_fragments(1000, 5);
+    for (const Material& m : mats) {
+        INFO("model " << m.model);
+        const std::vector<float> a = per_model.shade(fb, setup_of(m, kOneDirectional, Precision::Precise));
+        const std::vector<float> b = dispatching.shade(fb, setup_of(m, kOneDirectional, Precision::Precise));
+        REQUIRE(a.size() == 3 * fb.size());
+        CHECK(same_bits(a, b));
+    }
 }
 
 TEST_CASE("shade: models with tables or children and other lights keep their own programs", "[shade][shade_many]") {

@@ -77,8 +77,11 @@ Material default_material(const ModelInfo& info) {
 }
 
 // Builds one program for the tiles' models that can share one (Shader::prepare_many), with the sheet's lights
-// and precision. A model whose default material cannot be made is left out (its tile reports why); a failed
-// build is logged and each model then builds its own program (a broken model fails its own tile only).
+// and precision, holding one dispatching kernel for them all: PoCL then compiles one work-group function at the
+// first tile instead of one per model (docs/speed.md, the cold contact sheet); its tiles are small, so that the
+// kernel is not vectorised costs little. A model whose default material cannot be made is left out (its tile
+// reports why); a failed build is logged and each model then builds its own program (a broken model fails its
+// own tile only).
 void share_programs(Shader& shader, const std::vector<const ModelInfo*>& models, const pipeline::Job& job,
                     std::ostream& log) {
     std::vector<Material> mats;
@@ -89,7 +92,7 @@ void share_programs(Shader& shader, const std::vector<const ModelInfo*>& models,
         }
     }
     try {
-        shader.prepare_many(mats, job.lights, job.precision);
+        shader.prepare_many(mats, job.lights, job.precision, true);
     } catch (const Error& e) {
         log << "contact sheet: the models' shared program did not build, building one program per model: " << e.what()
             << "\n";

@@ -102,6 +102,9 @@ std::size_t table_knots_bucket(const ModelInfo& info, const Material& m) {
     return most;
 }
 
+// The argument index of kernels/shade_many.cl's dispatching kernel's model (after shade_fragments.cl's 13).
+constexpr cl_uint kDispatchArg = 13;
+
 // A program request as one string: what tells the single-model programs apart (Runtime::build's key).
 std::string request_key(const ProgramRequest& r) {
     std::string key = r.main_file;
@@ -118,9 +121,10 @@ bool shareable(const Material& m) {
 
 // kernels/shade_many.cl's request for `models` (distinct, shareable, within its slots), given the single-model
 // request of one of them: the same defines and options without the model's header and eval, then each model
-// file once as SL_HEADER_i and each model's eval as SL_EVAL_i.
-ProgramRequest many_program(const std::vector<const ModelInfo*>& models, const ProgramRequest& single) {
+// file once as SL_HEADER_i and each model's eval as SL_EVAL_i; `dispatch`: one kernel for them all (SL_DISPATCH).
+ProgramRequest many_program(const std::vector<const ModelInfo*>& models, const ProgramRequest& single, bool dispatch) {
     ProgramRequest r{"shade_many.cl", {}, single.extra_options};
+    if (dispatch) r.defines.push_back("SL_DISPATCH=1");
     for (const std::string& d : single.defines)
         if (d.rfind("SL_MODEL_HEADER=", 0) != 0 && d.rfind("SL_EVAL=", 0) != 0) r.defines.push_back(d);
     std::vector<std::string> headers;
@@ -137,7 +141,7 @@ ProgramRequest many_program(const std::vector<const ModelInfo*>& models, const P
 }  // namespace
 
 std::size_t Shader::prepare_many(const std::vector<Material>& materials, const std::vector<Light>& lights,
-                                 Precision precision) {
+                                 Precision precision, bool dispatch) {
     struct Todo {
         std::string key;   // request_key of the model's own program
         ProgramRequest single;
@@ -163,9 +167,11 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
             if (headers.size() > kManyHeaders) break;
             models.push_back(todo[e].info);
         }
-        const ProgramRequest req = many_program(models, todo[b].single);
+        const ProgramRequest req = many_program(models, todo[b].single, dispatch);
         const cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
-        for (std::size_t i = b; i < e; ++i) added[todo[i].key] = {prog, "shade_fragments_" + todo[i].info->eval};
+        for (std::size_t i = b; i < e; ++i)
+            added[todo[i].key] = dispatch ? SharedKernel{prog, "shade_fragments_any", int(i - b)}
+                                          : SharedKernel{prog, "shade_fragments_" + todo[i].info->eval, -1};
         b = e;
     }
     many_.insert(added.begin(), added.end());
@@ -174,7 +180,11 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
 
 cl::Kernel Shader::shade_kernel(const ProgramRequest& single) {
     const auto it = many_.find(request_key(single));
-    if (it != many_.end()) return cl::Kernel(it->second.program, it->second.kernel.c_str());
+    if (it != many_.end()) {
+        cl::Kernel k(it->second.program, it->second.kernel.c_str());
+        if (it->second.model >= 0) k.setArg(kDispatchArg, cl_uint(it->second.model));
+        return k;
+    }
     return cl::Kernel(rt_.build(single.main_file, single.defines, single.extra_options), "shade_fragments");
 }
 

@@ -65,8 +65,12 @@ public:
     // (count, all directional or not) and precision then uses its kernel there, the same code as its own
     // program's. Returns how many distinct models it added. A build failure throws shadelab::Error (nothing is
     // added; shade() then builds each material's own program).
+    // `dispatch` true: each program holds one kernel for all its models (shade_fragments_any, picking the model by
+    // an argument) instead of one per model, so PoCL compiles one work-group function at the first launch instead
+    // of one per model (about 0.09 s of CPU each). The same pixels, but the kernel is not vectorised: for a cold
+    // run of many small launches (the contact sheet), never where shading speed matters.
     std::size_t prepare_many(const std::vector<Material>& materials, const std::vector<Light>& lights,
-                             Precision precision = Precision::Precise);
+                             Precision precision = Precision::Precise, bool dispatch = false);
     static constexpr std::size_t kManyModels = 64, kManyHeaders = 16;   // kernels/shade_many.cl's slots
 
     // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
@@ -104,7 +108,8 @@ private:
     Runtime& rt_;
     struct SharedKernel {
         cl::Program program;
-        std::string kernel;              // shade_fragments_<eval function>
+        std::string kernel;              // shade_fragments_<eval function>, or shade_fragments_any ...
+        int model = -1;                  // ... and its model argument (the slot), -1 for the per-model kernels
     };
     std::map<std::string, SharedKernel> many_;   // by the single-model program it stands for (request_key)
     cl::Kernel shade_kernel(const ProgramRequest& single);
