@@ -1,8 +1,12 @@
 // run_parallel (host/raster/parallel.hpp), the fork-join behind the rasteriser and the image paths, on its
 // persistent pool: every part runs exactly once per call, whatever the part count, back to back or after the
 // workers have gone to sleep; a call from inside a part and calls from two threads at once (the pool busy)
-// still run every part; an exception from any part reaches the caller after every part has returned.
+// still run every part; an exception from any part reaches the caller after every part has returned; a child
+// made by fork() (whose parent's workers do not exist there) runs every part too.
 #include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -91,4 +95,20 @@ TEST_CASE("run_parallel: an exception from a part reaches the caller after every
         CHECK(finished == 2);
     }
     CHECK(each_part_once(3));
+}
+
+TEST_CASE("run_parallel: a child made by fork() runs every part on a pool of its own", "[parallel]") {
+    REQUIRE(each_part_once(2));   // the parent's pool exists, with its workers
+    const pid_t pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+        ::alarm(20);   // a child waiting for the parent's workers would hang: end it instead
+        const bool ok = each_part_once(2) && each_part_once(3);
+        ::_exit(ok ? 0 : 1);
+    }
+    int status = 0;
+    REQUIRE(::waitpid(pid, &status, 0) == pid);
+    INFO("child status " << status);
+    CHECK(WIFEXITED(status));
+    CHECK(WEXITSTATUS(status) == 0);
 }

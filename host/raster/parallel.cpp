@@ -1,6 +1,6 @@
 // The thread pool behind run_parallel (parallel.hpp).
 //
-// One pool per process, created at the first parallel call, never destroyed (its threads are blocked or
+// One pool per process (a forked child makes its own), created at the first parallel call, never destroyed (its threads are blocked or
 // spinning on it when the process exits, so it must outlive every static destructor). A run publishes a job
 // and bumps a generation counter; each worker spins on the counter for a short while after its last job
 // (the stages of a frame follow each other within microseconds) and then sleeps on a condition variable,
@@ -14,6 +14,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
+#include <pthread.h>
 #include <mutex>
 #include <system_error>
 #include <vector>
@@ -188,9 +189,19 @@ private:
     bool caller_sleeping_ = false;   // guarded by m_
 };
 
+// The process's pool: never destroyed (see the top of this file). A child made by fork() has none of the
+// parent's threads (Python's multiprocessing forks a process that has rasterised), so it starts a pool of its
+// own; the parent's is left unused there.
+Pool* g_pool = nullptr;
+
 Pool& pool() {
-    static Pool* const p = new Pool();   // never destroyed: see the top of this file
-    return *p;
+    static const bool made = [] {
+        g_pool = new Pool();
+        ::pthread_atfork(nullptr, nullptr, [] { g_pool = new Pool(); });
+        return true;
+    }();
+    (void)made;
+    return *g_pool;
 }
 
 }  // namespace
