@@ -30,7 +30,7 @@ cd "$B"
 if [ "${1:-}" = --all ]; then
   ctest --output-on-failure -j2 --timeout 3600
 else
-  ./shadelab_tests_input "[mesh],[scene],[batch],[raster],[image],[color],[moon],[hostile],[atomic_file],[photometry],[pvl]"
+  ./shadelab_tests_input "[mesh],[scene],[batch],[raster],[parallel],[image],[color],[moon],[hostile],[atomic_file],[photometry],[pvl]"
   ctest --output-on-failure -L hostile
 fi
 echo "sanitize: clean (ASan + UBSan)"
