@@ -2,7 +2,8 @@
 //
 // Stages, each a small function below:
 //   to_clip             world -> clip space (double), once per vertex;
-//   outside_frustum     trivial rejection (all three vertices beyond one frustum plane);
+//   outcode             per vertex, which frustum planes it is beyond (and near plane, guard band): trivial
+//                       rejection is all three vertices beyond one plane;
 //   clip_polygon        Sutherland-Hodgman against the near plane (and, rarely, a far-off guard band);
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
 //   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box;
@@ -126,12 +127,36 @@ glm::dvec4 to_clip(const glm::dmat4& view_projection, const glm::dvec3& world) {
 // z_view <= -z_near exactly, so clipped vertices have w >= z_near > 0 and the divide is safe.
 const glm::dvec4 kNearPlane{0.0, 0.0, 1.0, 1.0};
 
-// Trivially outside the frustum: all three vertices beyond the same one of the six planes.
-bool outside_frustum(const glm::dvec4 v[3]) {
-    const glm::dvec4 &a = v[0], &b = v[1], &c = v[2];
-    return (a.x > a.w && b.x > b.w && c.x > c.w) || (a.x < -a.w && b.x < -b.w && c.x < -c.w) ||
-           (a.y > a.w && b.y > b.w && c.y > c.w) || (a.y < -a.w && b.y < -b.w && c.y < -c.w) ||
-           (a.z > a.w && b.z > b.w && c.z > c.w) || (a.z < -a.w && b.z < -b.w && c.z < -c.w);
+bool near_inside(const glm::dvec4& c) { return glm::dot(kNearPlane, c) >= 0.0; }
+
+bool in_guard_band(const glm::dvec4& c, double guard) {
+    return std::abs(c.x) <= guard * c.w && std::abs(c.y) <= guard * c.w;
+}
+
+// A vertex's clip tests, one bit each, computed once per vertex: a triangle's tests are then three byte loads
+// from an array that stays in cache, where loading its three clip-space vertices (scattered over memory when
+// the mesh's order is not spatial: the bunny's, the dragon's) made set-up wait on memory. The low six bits are
+// the frustum planes, so that the triangle is trivially outside when one bit is set in all three (all three
+// vertices beyond the same plane); kBehindNear and kOffGuard ask for clipping.
+enum Outcode : std::uint8_t {
+    kBeyondRight = 1, kBeyondLeft = 2, kBeyondTop = 4, kBeyondBottom = 8, kBeyondFar = 16, kBeyondNearZ = 32,
+    kFrustumBits = 63, kBehindNear = 64, kOffGuard = 128
+};
+std::uint8_t outcode(const glm::dvec4& c, double guard);
+
+// What set-up reads of a mesh vertex, computed once per vertex in one 32-byte record (one cache line's half:
+// the triangles' vertex loads were set-up's cost): screen position, NDC depth z / w and the outcode.
+struct SetupVertex {
+    glm::dvec2 screen;
+    double ndc_z;
+    std::uint8_t code;
+};
+
+std::uint8_t outcode(const glm::dvec4& c, double guard) {
+    return std::uint8_t((c.x > c.w ? kBeyondRight : 0) | (c.x < -c.w ? kBeyondLeft : 0) | (c.y > c.w ? kBeyondTop : 0) |
+                        (c.y < -c.w ? kBeyondBottom : 0) | (c.z > c.w ? kBeyondFar : 0) |
+                        (c.z < -c.w ? kBeyondNearZ : 0) | (near_inside(c) ? 0 : kBehindNear) |
+                        (in_guard_band(c, guard) ? 0 : kOffGuard));
 }
 
 // Where edge p-q crosses the plane. The endpoints are put in a canonical order first, so the two triangles
@@ -164,8 +189,12 @@ int clip_polygon(const ClipVertex* in, int n, const glm::dvec4& plane, ClipVerte
     return m;
 }
 
+// NDC depth of a clip-space point (z / w: the depth buffer's value).
+double ndc_depth(const glm::dvec4& c) { return c.z / c.w; }
+
 // Screen position of a clip-space point: perspective divide to NDC ([-1, 1], y up), then to pixels with
 // x in [0, W) to the right and y in [0, H) downwards (row 0 is the top row, so NDC y is flipped).
+
 glm::dvec2 viewport_transform(const glm::dvec4& c, int width, int height) {
     const double inv_w = 1.0 / c.w;
     const double x_ndc = c.x * inv_w, y_ndc = c.y * inv_w;
@@ -242,11 +271,12 @@ struct Frame {
 
 enum class Setup { Kept, Culled, Empty };
 
-// One screen triangle from three clip-space corners (all with w > 0, inside the guard band).
+// One screen triangle from three corners (all with w > 0, inside the guard band): their screen positions and
+// NDC depths z / w (read only for the depth plane of a triangle that covers a pixel centre).
 // `corners`, when the triangle came out of the clipper, are kept for emission; otherwise the corners are
 // the mesh triangle's own vertices.
 // `mesh_vertices` are the mesh triangle's vertex indices when the corners are its own vertices (else null).
-Setup setup_triangle(const glm::dvec4 c[3], const glm::dvec2 screen[3], const ClipVertex* corners,
+Setup setup_triangle(const double ndc_z[3], const glm::dvec2 screen[3], const ClipVertex* corners,
                      const std::uint32_t* mesh_vertices, const Frame& f, std::int32_t mesh_triangle, Chunk& out) {
     RasterTri r;
     for (int k = 0; k < 3; ++k) {
@@ -277,9 +307,9 @@ Setup setup_triangle(const glm::dvec4 c[3], const glm::dvec2 screen[3], const Cl
     const std::int64_t min_x = std::max<std::int64_t>(first_x, 0), max_x = std::min<std::int64_t>(last_x, f.width - 1);
     const std::int64_t min_y = std::max<std::int64_t>(first_y, 0), max_y = std::min<std::int64_t>(last_y, f.height - 1);
     if (min_x > max_x || min_y > max_y) return Setup::Empty;
-    // NDC depth of the corners, in screen order (computed only for triangles that cover a pixel centre).
+    // NDC depth of the corners, in screen order.
     const int i1 = front ? 2 : 1, i2 = front ? 1 : 2;
-    const double z[3] = {c[0].z / c[0].w, c[i1].z / c[i1].w, c[i2].z / c[i2].w};
+    const double z[3] = {ndc_z[0], ndc_z[i1], ndc_z[i2]};
     r.min_x = std::int16_t(min_x);   // image sides are <= 16384
     r.max_x = std::int16_t(max_x);
     r.min_y = std::int16_t(min_y);
@@ -319,29 +349,27 @@ Setup setup_triangle(const glm::dvec4 c[3], const glm::dvec2 screen[3], const Cl
     return Setup::Kept;
 }
 
-bool near_inside(const glm::dvec4& c) { return glm::dot(kNearPlane, c) >= 0.0; }
-
-bool in_guard_band(const glm::dvec4& c, double guard) {
-    return std::abs(c.x) <= guard * c.w && std::abs(c.y) <= guard * c.w;
-}
-
 // Clip one mesh triangle and set up the screen triangles it becomes (none, one, or a fan of several).
-void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const ScreenVertex* sv, std::size_t mt,
+// `clip` and `vertices` are the frame's per-vertex clip positions and set-up records.
+void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* vertices, std::size_t mt,
                          const Frame& f, Chunk& out) {
     const glm::u32vec3& tri = mesh.triangles[mt];
-    const glm::dvec4 c[3] = {clip[tri[0]], clip[tri[1]], clip[tri[2]]};
-    if (outside_frustum(c)) {
+    const SetupVertex &v0 = vertices[tri[0]], &v1 = vertices[tri[1]], &v2 = vertices[tri[2]];
+    const std::uint8_t o0 = v0.code, o1 = v1.code, o2 = v2.code;
+    if (o0 & o1 & o2 & kFrustumBits) {   // all three beyond one plane
         ++out.stats.triangles_culled;
         return;
     }
-    const bool crosses_near = !near_inside(c[0]) || !near_inside(c[1]) || !near_inside(c[2]);
-    if (!crosses_near && in_guard_band(c[0], f.guard) && in_guard_band(c[1], f.guard) && in_guard_band(c[2], f.guard)) {
+    const bool crosses_near = ((o0 | o1 | o2) & kBehindNear) != 0;
+    if (((o0 | o1 | o2) & (kBehindNear | kOffGuard)) == 0) {
         // The common case: nothing to clip.
-        const glm::dvec2 sc[3] = {sv[tri[0]].screen, sv[tri[1]].screen, sv[tri[2]].screen};
+        const glm::dvec2 sc[3] = {v0.screen, v1.screen, v2.screen};
+        const double z[3] = {v0.ndc_z, v1.ndc_z, v2.ndc_z};
         const std::uint32_t vi[3] = {tri[0], tri[1], tri[2]};
-        if (setup_triangle(c, sc, nullptr, vi, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
+        if (setup_triangle(z, sc, nullptr, vi, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
         return;
     }
+    const glm::dvec4 c[3] = {clip[tri[0]], clip[tri[1]], clip[tri[2]]};
 
     ClipVertex poly[kMaxPolygon], tmp[kMaxPolygon];
     for (int k = 0; k < 3; ++k) {
@@ -373,10 +401,11 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const ScreenV
     int culled = 0, kept = 0;
     for (int k = 1; k + 1 < n; ++k) {
         const ClipVertex fan[3] = {poly[0], poly[k], poly[k + 1]};
-        const glm::dvec4 fc[3] = {fan[0].clip, fan[1].clip, fan[2].clip};
-        const glm::dvec2 sc[3] = {viewport_transform(fc[0], f.width, f.height), viewport_transform(fc[1], f.width, f.height),
-                                  viewport_transform(fc[2], f.width, f.height)};
-        const Setup r = setup_triangle(fc, sc, fan, nullptr, f, std::int32_t(mt), out);
+        const glm::dvec2 sc[3] = {viewport_transform(fan[0].clip, f.width, f.height),
+                                  viewport_transform(fan[1].clip, f.width, f.height),
+                                  viewport_transform(fan[2].clip, f.width, f.height)};
+        const double z[3] = {ndc_depth(fan[0].clip), ndc_depth(fan[1].clip), ndc_depth(fan[2].clip)};
+        const Setup r = setup_triangle(z, sc, fan, nullptr, f, std::int32_t(mt), out);
         culled += r == Setup::Culled ? 1 : 0;
         kept += r == Setup::Kept ? 1 : 0;
     }
@@ -1049,10 +1078,25 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
     return s;
 }
 
-// What set-up leaves for the later stages.
-struct SetupResult {
-    std::unique_ptr<ScreenVertex[]> sv;
+// Set-up's per-vertex and per-triangle arrays, kept per calling thread from one frame to the next (as Scratch
+// keeps the owners): allocated fresh every frame, the dragon's (~25 MB at 202k triangles) took a page fault per
+// 4 KB, about a tenth of its set-up. Their contents are rewritten by every frame; only the memory is reused.
+struct SetupMemory {
+    std::vector<glm::dvec4> clip;
+    std::vector<SetupVertex> vertices;
+    std::vector<ScreenVertex> sv;
     std::vector<Chunk> chunks;
+};
+
+SetupMemory& setup_memory() {
+    thread_local SetupMemory m;
+    return m;
+}
+
+// What set-up leaves for the later stages (in the calling thread's SetupMemory).
+struct SetupResult {
+    const ScreenVertex* sv;
+    std::vector<Chunk>& chunks;
     std::vector<std::int32_t> first_id;   // first set-up triangle id of each chunk (+ total)
 };
 
@@ -1060,39 +1104,45 @@ struct SetupResult {
 // triangle order is not spatial (the bunny's and the dragon's are not): it asks for those of the triangle
 // kSetupAhead on, so that their loads overlap the set-up of the ones between. Only a hint.
 constexpr std::size_t kSetupAhead = 8;
-void prefetch_vertices(const glm::u32vec3& tri, const glm::dvec4* clip, const ScreenVertex* sv) {
-    for (int k = 0; k < 3; ++k) {
-        __builtin_prefetch(&clip[tri[k]]);
-        __builtin_prefetch(&sv[tri[k]]);
-    }
+void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
+    for (int k = 0; k < 3; ++k) __builtin_prefetch(&vertices[tri[k]]);
 }
 
 // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
 //    vertices all have w >= z_near > 0); 2. triangle set-up in contiguous ranges of mesh triangles; ids
-//    follow mesh order (the depth tie-break). Large scratch arrays are first written by the thread using them.
+//    follow mesh order (the depth tie-break). The arrays are the calling thread's SetupMemory.
 SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     const std::size_t nv = mesh.positions.size();
-    std::unique_ptr<glm::dvec4[]> clip(new glm::dvec4[nv]);
-    SetupResult s;
-    s.sv.reset(new ScreenVertex[nv]);
-    ScreenVertex* const sv = s.sv.get();
+    SetupMemory& mem = setup_memory();
+    mem.clip.resize(nv);
+    mem.vertices.resize(nv);
+    mem.sv.resize(nv);
+    glm::dvec4* const clip = mem.clip.data();
+    SetupVertex* const vertices = mem.vertices.data();
+    ScreenVertex* const sv = mem.sv.data();
     run_parallel(threads, [&](int i) {
         for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v) {
             clip[v] = to_clip(f.view_projection, mesh.positions[v]);
-            sv[v] = ScreenVertex{viewport_transform(clip[v], f.width, f.height), 1.0 / clip[v].w, mesh.positions[v],
-                                 mesh.normals[v]};
+            const glm::dvec2 screen = viewport_transform(clip[v], f.width, f.height);
+            vertices[v] = SetupVertex{screen, ndc_depth(clip[v]), outcode(clip[v], f.guard)};
+            sv[v] = ScreenVertex{screen, 1.0 / clip[v].w, mesh.positions[v], mesh.normals[v]};
         }
     });
+    SetupResult s{sv, mem.chunks, {}};
     s.chunks.resize(static_cast<std::size_t>(threads));
     const std::size_t nt = mesh.triangles.size();
     run_parallel(threads, [&](int i) {
         Chunk& chunk = s.chunks[std::size_t(i)];
+        chunk.raster.clear();
+        chunk.shade.clear();
+        chunk.clipped.clear();
+        chunk.stats = RasterStats{};
         const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
         for (std::size_t t = b; t < e; ++t) {
-            if (t + kSetupAhead < e) prefetch_vertices(mesh.triangles[t + kSetupAhead], clip.get(), sv);
-            setup_mesh_triangle(mesh, clip.get(), sv, t, f, chunk);
+            if (t + kSetupAhead < e) prefetch_vertices(mesh.triangles[t + kSetupAhead], vertices);
+            setup_mesh_triangle(mesh, clip, vertices, t, f, chunk);
         }
     });
     s.first_id.assign(s.chunks.size() + 1, 0);
@@ -1170,7 +1220,7 @@ void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, co
     fb.width = g.width;
     fb.height = g.height;
     size_fragments(fb, at.back(), threads);
-    const EmitContext ctx{&mesh, s.sv.get(), &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
+    const EmitContext ctx{&mesh, s.sv, &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
                           g.height};
     const int bands = band_count(g), rows = band_rows(g);
