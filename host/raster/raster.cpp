@@ -438,8 +438,8 @@ struct Bins {
     std::vector<std::int32_t> ids;
 };
 
-Bins bin_chunk(const Chunk& chunk, const Tiling& g) {
-    Bins b;
+// Fills `b` (whose memory is reused from frame to frame) with the chunk's bins.
+void bin_chunk(const Chunk& chunk, const Tiling& g, Bins& b) {
     b.start.assign(std::size_t(g.count()) + 1, 0);
     auto each_tile = [&](const RasterTri& t, auto&& fn) {
         for (int ty = t.min_y / kTileH; ty <= t.max_y / kTileH; ++ty)
@@ -451,7 +451,6 @@ Bins bin_chunk(const Chunk& chunk, const Tiling& g) {
     std::vector<std::uint32_t> next(b.start.begin(), b.start.end() - 1);
     for (std::size_t i = 0; i < chunk.raster.size(); ++i)
         each_tile(chunk.raster[i], [&](std::size_t k) { b.ids[next[k]++] = std::int32_t(i); });
-    return b;
 }
 
 // The k in [0, n) with e + step * k >= 0 (one edge function along a row), as [first, last]; empty if first > last.
@@ -1086,6 +1085,7 @@ struct SetupMemory {
     std::vector<SetupVertex> vertices;
     std::vector<ScreenVertex> sv;
     std::vector<Chunk> chunks;
+    std::vector<Bins> bins;   // one per chunk (raster_all)
 };
 
 SetupMemory& setup_memory() {
@@ -1157,8 +1157,9 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
 // 3. Rasterise into the visibility buffer, tile by tile; threads take the next tile (each tile's pixels
 //    belong to it alone: no locks, and the order of tiles changes nothing).
 Scratch& raster_all(const SetupResult& s, const Tiling& g, int threads) {
-    std::vector<Bins> bins(s.chunks.size());
-    run_parallel(threads, [&](int i) { bins[std::size_t(i)] = bin_chunk(s.chunks[std::size_t(i)], g); });
+    std::vector<Bins>& bins = setup_memory().bins;
+    bins.resize(s.chunks.size());
+    run_parallel(threads, [&](int i) { bin_chunk(s.chunks[std::size_t(i)], g, bins[std::size_t(i)]); });
     Scratch& scratch = scratch_for(std::size_t(g.width) * std::size_t(g.height), std::size_t(g.tiles_x) * std::size_t(g.height));
     const TileContext tc{&g, &s.chunks, &bins, &s.first_id, scratch.owner.get(), scratch.spans.get()};
     std::atomic<int> next_tile{0};
