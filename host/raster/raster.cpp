@@ -133,17 +133,16 @@ bool in_guard_band(const glm::dvec4& c, double guard) {
     return std::abs(c.x) <= guard * c.w && std::abs(c.y) <= guard * c.w;
 }
 
-// A vertex's clip tests, one bit each, computed once per vertex: a triangle's tests are then three byte loads
-// from an array that stays in cache, where loading its three clip-space vertices (scattered over memory when
-// the mesh's order is not spatial: the bunny's, the dragon's) made set-up wait on memory. The low six bits are
+// A vertex's clip tests, one bit each, computed once per vertex (its SetupVertex's `code`): a triangle's tests
+// are then bit operations on the three records it reads anyway, where loading its three clip-space vertices
+// (scattered over memory when the mesh's order is not spatial: the bunny's, the dragon's) made set-up wait on
+// memory. The low six bits are
 // the frustum planes, so that the triangle is trivially outside when one bit is set in all three (all three
 // vertices beyond the same plane); kBehindNear and kOffGuard ask for clipping.
 enum Outcode : std::uint8_t {
     kBeyondRight = 1, kBeyondLeft = 2, kBeyondTop = 4, kBeyondBottom = 8, kBeyondFar = 16, kBeyondNearZ = 32,
     kFrustumBits = 63, kBehindNear = 64, kOffGuard = 128
 };
-std::uint8_t outcode(const glm::dvec4& c, double guard);
-
 // What set-up reads of a mesh vertex, computed once per vertex in one 32-byte record (one cache line's half:
 // the triangles' vertex loads were set-up's cost): screen position, NDC depth z / w and the outcode.
 struct SetupVertex {
@@ -194,7 +193,6 @@ double ndc_depth(const glm::dvec4& c) { return c.z / c.w; }
 
 // Screen position of a clip-space point: perspective divide to NDC ([-1, 1], y up), then to pixels with
 // x in [0, W) to the right and y in [0, H) downwards (row 0 is the top row, so NDC y is flipped).
-
 glm::dvec2 viewport_transform(const glm::dvec4& c, int width, int height) {
     const double inv_w = 1.0 / c.w;
     const double x_ndc = c.x * inv_w, y_ndc = c.y * inv_w;
@@ -360,8 +358,9 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const SetupVe
         ++out.stats.triangles_culled;
         return;
     }
-    const bool crosses_near = ((o0 | o1 | o2) & kBehindNear) != 0;
-    if (((o0 | o1 | o2) & (kBehindNear | kOffGuard)) == 0) {
+    const std::uint8_t any = o0 | o1 | o2;   // bits set in at least one vertex
+    const bool crosses_near = (any & kBehindNear) != 0;
+    if ((any & (kBehindNear | kOffGuard)) == 0) {
         // The common case: nothing to clip.
         const glm::dvec2 sc[3] = {v0.screen, v1.screen, v2.screen};
         const double z[3] = {v0.ndc_z, v1.ndc_z, v2.ndc_z};
