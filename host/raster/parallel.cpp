@@ -100,7 +100,7 @@ public:
             ~Release() { busy.store(false, std::memory_order_release); }
         } release{busy_};
         grow(n - 1);
-        const int workers = int(workers_.size());
+        const int workers = workers_;
         if (workers == 0) return false;   // no thread could be started
         job_ = Job{n, call, fn, &error};
         pending_.store(workers, std::memory_order_relaxed);
@@ -131,16 +131,16 @@ private:
 
     // Starts workers until there are `want` of them (fewer if a thread cannot be started).
     void grow(int want) {
-        while (int(workers_.size()) < want) {
-            const int index = int(workers_.size()) + 1;
+        while (workers_ < want) {
+            const int index = workers_ + 1;
             // The generation before this call's job: the new worker must see the job's bump as fresh.
             const std::uint64_t seen = generation_.load(std::memory_order_relaxed);
             try {
-                workers_.emplace_back([this, index, seen] { work(index, seen); });
+                std::thread([this, index, seen] { work(index, seen); }).detach();
             } catch (const std::system_error&) {
                 return;
             }
-            workers_.back().detach();
+            ++workers_;
         }
     }
 
@@ -179,7 +179,7 @@ private:
     }
 
     std::atomic<bool> busy_{false};
-    std::vector<std::thread> workers_;   // detached; kept for their count
+    int workers_ = 0;                    // started (detached) worker threads: parts 1 .. workers_
     Job job_;                            // written only while every worker is between jobs
     std::atomic<std::uint64_t> generation_{0};
     std::atomic<int> pending_{0};
