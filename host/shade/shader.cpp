@@ -102,9 +102,6 @@ std::size_t table_knots_bucket(const ModelInfo& info, const Material& m) {
     return most;
 }
 
-// The argument index of kernels/shade_many.cl's dispatching kernel's model (after shade_fragments.cl's 13).
-constexpr cl_uint kDispatchArg = 13;
-
 // A program request as one string: what tells the single-model programs apart (Runtime::build's key).
 std::string request_key(const ProgramRequest& r) {
     std::string key = r.main_file;
@@ -182,7 +179,8 @@ cl::Kernel Shader::shade_kernel(const ProgramRequest& single) {
     const auto it = many_.find(request_key(single));
     if (it != many_.end()) {
         cl::Kernel k(it->second.program, it->second.kernel.c_str());
-        if (it->second.model >= 0) k.setArg(kDispatchArg, cl_uint(it->second.model));
+        // The dispatching kernel's model is its last argument (kernels/shade_many.cl, SL_SHADE_EXTRA_ARGS).
+        if (it->second.model >= 0) k.setArg(k.getInfo<CL_KERNEL_NUM_ARGS>() - 1, cl_uint(it->second.model));
         return k;
     }
     return cl::Kernel(rt_.build(single.main_file, single.defines, single.extra_options), "shade_fragments");
