@@ -74,13 +74,36 @@ SL_INLINE int Pho_visible(sl_pho g) { return g.mu0 > 0.0f && g.mu > 0.0f; }
 // atan(x) for x >= 0 (inf included). Range reduction to |z| <= tan(pi/8) (Cody & Waite; Cephes atanf):
 //   x > tan(3pi/8): atan x = pi/2 + atan(-1/x);  x > tan(pi/8): atan x = pi/4 + atan((x - 1)/(x + 1)),
 // then atan z = z + z^3 P(z^2) with Cephes' minimax coefficients (relative error ~1e-7 on [0, 0.4142]).
-SL_INLINE float Pho_atan(float x) {
+// The reduced argument is one quotient of a selected numerator and denominator (-1 / x, (x - 1) / (x + 1) or
+// x / 1, the last exact): a select between quotients would compute both divisions in every lane of the vector.
+// Pho_atan_reduce returns z and sets *y0 (0, pi/4 or pi/2); Pho_atan_poly(z) = atan z.
+SL_INLINE float Pho_atan_reduce(float x, float* y0) {
     const int big = x > 2.414213562373095f, mid = x > 0.4142135623730950f;
-    const float z = big ? -1.0f / x : (mid ? (x - 1.0f) / (x + 1.0f) : x);
-    const float y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
+    const float num = big ? -1.0f : (mid ? x - 1.0f : x);
+    const float den = big ? x : (mid ? x + 1.0f : 1.0f);
+    *y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
+    return num / den;
+}
+SL_INLINE float Pho_atan_poly(float z) {
     const float z2 = z * z;
     const float p = ((8.05374449538e-2f * z2 - 1.38776856032e-1f) * z2 + 1.99777106478e-1f) * z2 - 3.33329491539e-1f;
-    return y0 + (p * z2 * z + z);
+    return p * z2 * z + z;
+}
+SL_INLINE float Pho_atan(float x) {
+    float y0;
+    const float z = Pho_atan_reduce(x, &y0);
+    return y0 + Pho_atan_poly(z);
+}
+
+// atan x and atan(1/x) = pi/2 - atan x for x >= 0 (inf included) from one reduction: with atan x = y0 + a,
+// atan(1/x) = (pi/2 - y0) - a, where pi/2 - y0 is exactly 0 (x > tan(3pi/8): then atan(1/x) = -a = atan(1/x)'s
+// own polynomial, no cancellation), pi/4 (|a| <= pi/8) or pi/2 (a <= pi/8): never a difference of near-equal
+// numbers, so atan(1/x) keeps its relative accuracy as x -> inf. One division for both.
+SL_INLINE float Pho_atan_and_atan_inv(float x, float* atan_inv) {
+    float y0;
+    const float a = Pho_atan_poly(Pho_atan_reduce(x, &y0));
+    *atan_inv = (0.5f * PHO_PI - y0) - a;
+    return y0 + a;
 }
 
 // exp(x) for x <= 0 (-inf included; the laws only take exponentials of non-positive numbers): x = (k + f) ln 2,
@@ -99,10 +122,14 @@ SL_INLINE float Pho_exp(float x) {
 // The phase angle g in degrees, 2 atan(tan(g/2)) (well conditioned at 0 and 180).
 SL_INLINE float Pho_phase_deg(sl_pho g) { return 2.0f * (180.0f / PHO_PI) * Pho_atan(g.tan_half_g); }
 
-// 1 + cos g and 1 - cos g from t = tan(g/2): 2/(1 + t^2) and 2/(1 + 1/t^2), each without the cancellation of
-// 1 +- cos g near g = 180 / g = 0 (t = 0 gives 1/t^2 = inf and so 0; t = 1e18 gives 0 and 2).
-SL_INLINE float Pho_one_plus_cos_g(float t) { return 2.0f / (1.0f + t * t); }
-SL_INLINE float Pho_one_minus_cos_g(float t) { return 2.0f / (1.0f + 1.0f / (t * t)); }
+// 1 + cos g and 1 - cos g from t = tan(g/2): 2/(1 + t^2) and 2 t^2/(1 + t^2), each without the cancellation of
+// 1 +- cos g near g = 180 / g = 0 (t = 0 gives 2 and 0; t = PHO_TAN_MAX gives 2e-36 and 2: t^2 stays finite).
+// Both from one reciprocal; returns 1 + cos g and sets *one_minus.
+SL_INLINE float Pho_one_pm_cos_g(float t, float* one_minus) {
+    const float t2 = t * t, inv = 2.0f / (1.0f + t2);
+    *one_minus = t2 * inv;
+    return inv;
+}
 
 // ---- the simple laws ------------------------------------------------------------------------------------
 
@@ -156,7 +183,8 @@ SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, floa
 SL_INLINE float Hapke_P_HG2(float t, const HapkeHG2Consts* hg) {
     const float a = hg->a, two_abs_b = hg->two_abs_b, b_pos_flag = hg->b_positive, one_minus_b2 = hg->one_minus_b2;
     const float c = hg->c, one_minus_c = hg->one_minus_c;
-    const float opc = Pho_one_plus_cos_g(t), omc = Pho_one_minus_cos_g(t);
+    float omc;
+    const float opc = Pho_one_pm_cos_g(t, &omc);
     const int b_pos = b_pos_flag != 0.0f;
     const float first = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? opc : omc);    // + 2 b cos g
     const float second = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? omc : opc);   // - 2 b cos g
@@ -217,10 +245,12 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     const float eta_e = Hapke_eta(g.mu, g.sin_e, 1.0f - om1e, e2e, chi, tan_t);
     // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
     const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
-    const float c = (1.0f - t2) / (1.0f + t2);
-    const float sin2_half_psi = t2 / (1.0f + t2);
-    const float psi_over_pi = 2.0f * Pho_atan(tan_half_psi) / PHO_PI;
-    const float one_minus_psi_over_pi = 2.0f * Pho_atan(1.0f / tan_half_psi) / PHO_PI;   // 1/0 = inf: 1
+    const float inv_1pt2 = 1.0f / (1.0f + t2);
+    const float c = (1.0f - t2) * inv_1pt2;
+    const float sin2_half_psi = t2 * inv_1pt2;
+    float atan_inv;   // atan(1 / tan(psi/2)): psi = 0 gives pi/2, so 1 - psi/pi = 1
+    const float psi_over_pi = 2.0f * Pho_atan_and_atan_inv(tan_half_psi, &atan_inv) / PHO_PI;
+    const float one_minus_psi_over_pi = 2.0f * atan_inv / PHO_PI;
     // f(psi) = exp(-2 tan(psi/2)) (Hapke 1984, eq. 50), used as 1 - f: at grazing with a large theta-bar, S
     // depends on 1 - f ~ psi against q ~ chi mu0 / eta_i, both tiny; 1 - Pho_exp(.) would round 1 - f to 0 for
     // psi < 6e-8 rad
@@ -229,21 +259,26 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
     const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
     const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
-    const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t * (c * e2e + sin2_half_psi * e2i) / den_ie);
-    const float mue_ie = chi * (g.mu + g.sin_e * tan_t * (e2e - sin2_half_psi * e2i) / den_ie);
+    const float tan_t_over_den_ie = tan_t / den_ie;   // one division for both cosines
+    const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t_over_den_ie * (c * e2e + sin2_half_psi * e2i));
+    const float mue_ie = chi * (g.mu + g.sin_e * tan_t_over_den_ie * (e2e - sin2_half_psi * e2i));
     // the i > e case after the i <= e case (the SLP vectoriser, as above), after min(|mue_ie|, 1): finite even
     // where mue_ie is not (a zero denominator at theta-bar = 90, psi = 180), so it cannot make the other case NaN
     const float after_ie = fmin(fabs(mue_ie), 1.0f);
     const float den_ei = sl_after(om1i, after_ie) + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - ...
-    const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t * (e2i - sin2_half_psi * e2e) / den_ei);
-    const float mue_ei = chi * (g.mu + g.sin_e * tan_t * (c * e2i + sin2_half_psi * e2e) / den_ei);
+    const float tan_t_over_den_ei = tan_t / den_ei;
+    const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t_over_den_ei * (e2i - sin2_half_psi * e2e));
+    const float mue_ei = chi * (g.mu + g.sin_e * tan_t_over_den_ei * (c * e2i + sin2_half_psi * e2e));
     // mue after mu0e (sl_after, with a finite dependence: fmin(NaN or Inf, 1) is a number): the two floors side by
     // side are packed into <2 x float> on AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
     const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f);
     const float mue = fmax(sl_after(i_le_e ? mue_ie : mue_ei, fmin(mu0e, 1.0f)), 0.0f);
-    const float q = i_le_e ? chi * g.mu0 / eta_i : chi * g.mu / eta_e;
+    const float q = chi * (i_le_e ? g.mu0 : g.mu) / (i_le_e ? eta_i : eta_e);   // one division, selected operands
     // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
-    const float S = (mue / eta_e) * (g.mu0 / eta_i) * chi / (one_minus_f + (1.0f - one_minus_f) * q);
+    // with two divisions: eta_i (1 - f + f q) = (1 - f) eta_i + f chi mu0 (i <= e; eta_i >= chi mu0) is at least as
+    // large as the numerator mu0 chi's own scale, so the product cannot underflow where the three quotients did not
+    // (folding eta_e in as well could: eta_e eta_i q ~ mu0 tan^2(theta-bar) at grazing with a tiny theta-bar)
+    const float S = (mue / eta_e) * (g.mu0 * chi) / (eta_i * (one_minus_f + (1.0f - one_minus_f) * q));
     const int some = mu0e + mue > 0.0f;
     *mu0e_out = some ? mu0e : 1.0f;   // any positive pair: the law is multiplied by S = 0 there
     *mue_out = some ? mue : 1.0f;
@@ -283,19 +318,23 @@ SL_INLINE float Pho_log(float x) {
 
 // Hapke's (2002, Icarus 157:523, eq. 13) better H approximation (within 1% of Chandrasekhar's H for all w, x):
 //   H(x) = 1 / (1 - w x [r0 + (1 - 2 r0 x)/2 ln((1 + x)/x)]),  r0 = (1 - gamma)/(1 + gamma), gamma = sqrt(1 - w).
-// x ln((1 + x)/x) -> 0 as x -> 0 (H(0) = 1); below x = 1e-30 the term is taken as 0 (its limit) so that the
-// float quotient (1 + x)/x does not overflow.
-SL_INLINE float Hapke_H2002(float x, float w, float r0) {
+// Hapke_H2002_den is the denominator 1 / H(x) (in (0, 1] for w in [0, 1]; the smooth law divides once by the
+// product of two). x ln((1 + x)/x) -> 0 as x -> 0 (H(0) = 1); below x = 1e-30 the term is taken as 0 (its limit).
+SL_INLINE float Hapke_H2002_den(float x, float w, float r0) {
     const float xl = x > 1.0e-30f ? x * Pho_log((1.0f + x) / fmax(x, 1.0e-30f)) : 0.0f;
-    return 1.0f / (1.0f - w * (x * r0 + 0.5f * (1.0f - 2.0f * r0 * x) * xl));
+    return 1.0f - w * (x * r0 + 0.5f * (1.0f - 2.0f * r0 * x) * xl);
 }
 
 // Coherent-backscatter opposition effect (Hapke 2002, eq. 32; Hapke 2012, eq. 9.43):
 //   B_C(g) = (1 + (1 - exp(-z))/z) / (2 (1 + z)^2),  z = tan(g/2)/h_C;  B_C(0) = 1. inv_hc = 1/h_C (0: none).
 SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
     const float z = t * inv_hc;
-    const float frac = z > 1.0e-4f ? Pho_one_minus_exp_neg(z) / z : 1.0f - 0.5f * z;   // (1 - e^-z)/z, z -> 0: 1 - z/2
-    return bc0 * (1.0f + frac) / (2.0f * (1.0f + z) * (1.0f + z));
+    // (1 + (1 - e^-z)/z) / d, d = 2 (1 + z)^2, as one quotient: (z + 1 - e^-z) / (z d) for z > 1e-4, and with
+    // (1 - e^-z)/z -> 1 - z/2 as z -> 0, (2 - z/2) / d below (a select between quotients would divide twice)
+    const float d = 2.0f * (1.0f + z) * (1.0f + z);
+    const int big = z > 1.0e-4f;
+    const float num = big ? z + Pho_one_minus_exp_neg(z) : 2.0f - 0.5f * z;
+    return bc0 * num / (big ? z * d : d);
 }
 
 // The porosity-corrected smooth law (Hapke 2008, Icarus 195:918; Hapke 2012, eq. 12.55 without roughness):
@@ -303,8 +342,8 @@ SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
 // H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
 SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
     const float inv_K = 1.0f / K;
-    const float H0 = Hapke_H2002(mu0 * inv_K, w, r0);
-    const float M = H0 * Hapke_H2002(sl_after(mu, H0) * inv_K, w, r0) - 1.0f;   // H(mu) after H(mu0): sl_after
+    const float D0 = Hapke_H2002_den(mu0 * inv_K, w, r0);   // 1 / H(mu0 / K)
+    const float M = 1.0f / (D0 * Hapke_H2002_den(sl_after(mu, D0) * inv_K, w, r0)) - 1.0f;   // H H - 1; sl_after
     return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
 }
 

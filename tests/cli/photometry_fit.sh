@@ -15,7 +15,7 @@ for g in 2 12 40 80; do
     "$bin" -q moon render "${hapke[@]}" --phase "$g" --pa 70 --size 80x80 --radius 34 -o "g$g.exr" > /dev/null || {
         echo "FAIL: moon render at phase $g"; exit 1; }
 done
-expect "fit hapke" 0 "^wh +0\.2500" -- "$bin" photometry fit g2.exr g12.exr g40.exr g80.exr --phase 2,12,40,80 --pa 70 --radius 34 --model hapke_hen
+expect "fit hapke" 0 "^wh +0\.(25(00[0-9]*)?|2499[0-9]*) " -- "$bin" photometry fit g2.exr g12.exr g40.exr g80.exr --phase 2,12,40,80 --pa 70 --radius 34 --model hapke_hen
 expect "fit reports evaluations per second" 0 "evaluations: [0-9]+ in .* per second" -- \
     "$bin" photometry fit g2.exr g12.exr g40.exr g80.exr --phase 2,12,40,80 --pa 70 --radius 34 --model HapkeHen
 expect "ranking" 0 "best: hapke_hen" -- "$bin" photometry fit g2.exr g12.exr g40.exr g80.exr --phase 2,12,40,80 --pa 70 \
@@ -40,7 +40,7 @@ expect "band backplanes of another size" 1 "small.tif\[1\] is 60x60 but g2.exr i
     "$bin" photometry fit g2.exr --backplanes "small.tif[1],small.tif[1],small.tif[1]" --model lambert
 # moon fit --law hapke_hen: one disc, wh, theta, hg1 fitted with b0 and hh held (named), bad input
 one=(g40.exr --phase 40 --pa 70 --radius 34 --centre 40,40)
-expect "moon fit hapke wh" 0 "^wh +0\.25(00[0-9]*)? " -- "$bin" moon fit "${one[@]}" --law hapke_hen -p b0=1.2 -p hh=0.08
+expect "moon fit hapke wh" 0 "^wh +0\.(25(00[0-9]*)?|2499[0-9]*) " -- "$bin" moon fit "${one[@]}" --law hapke_hen -p b0=1.2 -p hh=0.08
 expect "moon fit hapke theta" 0 "^theta +(18|18\.00[0-9]*|17\.99[0-9]*) " -- "$bin" moon fit "${one[@]}" --law HapkeHen -p b0=1.2 -p hh=0.08
 expect "moon fit hapke held" 0 "held: b0, hh, hg2: one image has one phase" -- "$bin" moon fit "${one[@]}" --law hapke_hen
 expect "moon fit hapke correlations" 0 "^correlation:" -- "$bin" moon fit "${one[@]}" --law hapke_hen
