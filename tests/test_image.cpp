@@ -132,6 +132,39 @@ TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-t
     CHECK_THROWS_WITH(compose_image(bad, rgb_rev, {0, 0, 0, 0}), Catch::Contains("outside the 1000x700 image"));
 }
 
+TEST_CASE("compose_image of an image past the streamed-store size (2048 x 2048, 64 MB) equals the one-thread scatter",
+          "[image]") {
+    // Images of 64 MB and more are written with non-temporal stores (image.cpp, kStreamImageBytes): the same
+    // check as above at a size that takes that path, every fifth pixel covered, against the reversed fragments.
+    FragmentBuffer fwd, rev;
+    fwd.width = rev.width = 2048;
+    fwd.height = rev.height = 2048;
+    const int npix = 2048 * 2048;
+    std::vector<int> covered;
+    for (int p = 1; p < npix; p += 5) covered.push_back(p);
+    for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
+    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
+    const std::size_t n = covered.size();
+    std::vector<float> rgb_fwd(3 * n), rgb_rev(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) {
+            rgb_fwd[c * n + i] = float(covered[i] % 1009) / 1009.0f + float(c);
+            rgb_rev[c * n + (n - 1 - i)] = rgb_fwd[c * n + i];
+        }
+    const Image a = compose_image(fwd, rgb_fwd, {0.25, 0.5, 0.75, 0.125});
+    const Image b = compose_image(rev, rgb_rev, {0.25, 0.5, 0.75, 0.125});
+    REQUIRE(a.pixels.size() == std::size_t(npix) * 4);
+    REQUIRE(a.pixels.size() == b.pixels.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
+    CHECK(differ == 0);
+    CHECK(a.at(0, 0, 3) == 0.125f);   // pixel 0: background
+    CHECK(a.at(0, 0, 2) == 0.75f);
+    CHECK(a.at(1, 0, 3) == 1.0f);     // pixel 1: covered, its colour
+    CHECK(a.at(1, 0, 1) == float(1 % 1009) / 1009.0f + 1.0f);
+    CHECK(a.at(2047, 2047, 3) == ((npix - 1) % 5 == 1 ? 1.0f : 0.125f));
+}
+
 TEST_CASE("compose_image_into reusing an image of another size and content equals a fresh compose_image", "[image]") {
     // Fragments in pixel order on 1000 x 700 (every 5th pixel, plus a run of 300 adjacent ones and the last
     // pixel), composed into an image that held a larger frame, then a smaller one, then the same frame again:

@@ -12,6 +12,9 @@
 #include <thread>
 
 #include <OpenImageIO/imageio.h>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
@@ -74,6 +77,38 @@ void compose_range(const std::int32_t* pixel, const float* r, const float* g, co
     background(p, p1);
 }
 
+#if defined(__SSE2__)
+// compose_range with non-temporal stores, one 16-byte RGBA pixel each (out 16-byte aligned): the same values,
+// written past the caches. An ordinary store first reads the line it writes into the cache ("read for
+// ownership"), so an image far larger than the caches costs its size twice in memory traffic; streamed, once.
+// The pixels go in address order, so the write-combining buffers fill whole lines. The fence makes the streamed
+// stores visible before the thread reports its range done.
+void compose_range_streamed(const std::int32_t* pixel, const float* r, const float* g, const float* b,
+                            const float bg[4], std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1,
+                            float* out) {
+    const __m128 back = _mm_loadu_ps(bg);
+    auto background = [&](std::size_t from, std::size_t to) {
+        for (std::size_t p = from; p < to; ++p) _mm_stream_ps(out + p * 4, back);
+    };
+    std::size_t p = p0;
+    for (std::size_t i = f0; i < f1; ++i) {
+        const std::size_t q = std::size_t(pixel[i]);
+        background(p, q);
+        _mm_stream_ps(out + q * 4, _mm_setr_ps(r[i], g[i], b[i], 1.0f));
+        p = q + 1;
+    }
+    background(p, p1);
+    _mm_sfence();
+}
+#endif
+
+// Images of at least this many bytes are written with streamed stores: past the last-level cache, where the
+// image would not stay cached for its reader anyway; below it, ordinary stores leave the image in the cache.
+// Measured on a 2-core AMD EPYC (Zen 4) host, a disc covering half the image, best of 15, three alternating
+// rounds: 4096 x 4096 13.6-15.0 ms streamed against 14.4-17.5 plain, 2048 x 2048 3.9-4.0 against 4.4-4.7.
+// (1080p, 33 MB, stays below the threshold: nothing was measured to gain there.)
+constexpr std::size_t kStreamImageBytes = std::size_t(64) << 20;
+
 // Any order, one thread: the background everywhere, then the fragments (later ones win), each checked.
 void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], float* out) {
     const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
@@ -115,10 +150,18 @@ void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb,
     });
     if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; }))
         return compose_unordered(fb, rgb, bg, out);
+    const bool stream = npix * 4 * sizeof(float) >= kStreamImageBytes && std::uintptr_t(out) % 16 == 0;
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
         const auto f0 = std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel;
         const auto f1 = std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel;
+#if defined(__SSE2__)
+        if (stream) {
+            compose_range_streamed(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1,
+                                   std::size_t(f0), std::size_t(f1), out);
+            return;
+        }
+#endif
         compose_range(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1, std::size_t(f0),
                       std::size_t(f1), out);
     });
