@@ -99,65 +99,71 @@ TEST_CASE("compose_image puts fragments at their pixels, background elsewhere, a
     CHECK(img.at(2, 1, 3) == 0.0f);
 }
 
-TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-thread scatter on a large image", "[image]") {
-    // 1000 x 700 with every third pixel covered, in pixel order (the parallel path) and the same fragments
-    // in reverse order (the one-thread path): the two images must be equal value for value.
-    FragmentBuffer fwd, rev;
-    fwd.width = rev.width = 1000;
-    fwd.height = rev.height = 700;
-    const int npix = 1000 * 700;
+namespace {
+
+// Every `step`-th pixel from `first` of a w x h image covered, composed twice: fragments in pixel order (the
+// parallel path) and the same fragments in reverse order (the one-thread scatter). Colour of pixel p's fragment:
+// channel c = (p % mod) / mod + c. Background (0.25, 0.5, 0.75, 0.125).
+struct ComposedTwice {
+    FragmentBuffer rev;
+    std::vector<float> rgb_rev;
+    Image in_order, reversed;
+};
+ComposedTwice compose_in_both_orders(int w, int h, int first, int step, int mod) {
+    ComposedTwice r;
+    FragmentBuffer fwd;
+    fwd.width = r.rev.width = w;
+    fwd.height = r.rev.height = h;
     std::vector<int> covered;
-    for (int p = 0; p < npix; p += 3) covered.push_back(p);
+    for (int p = first; p < w * h; p += step) covered.push_back(p);
     for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
-    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
+    for (auto it = covered.rbegin(); it != covered.rend(); ++it) r.rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
     const std::size_t n = covered.size();
-    std::vector<float> rgb_fwd(3 * n), rgb_rev(3 * n);
+    std::vector<float> rgb_fwd(3 * n);
+    r.rgb_rev.resize(3 * n);
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t c = 0; c < 3; ++c) {
-            rgb_fwd[c * n + i] = float(covered[i] % 997) / 997.0f + float(c);
-            rgb_rev[c * n + (n - 1 - i)] = rgb_fwd[c * n + i];
+            rgb_fwd[c * n + i] = float(covered[i] % mod) / float(mod) + float(c);
+            r.rgb_rev[c * n + (n - 1 - i)] = rgb_fwd[c * n + i];
         }
-    const Image a = compose_image(fwd, rgb_fwd, {0.25, 0.5, 0.75, 0.125});
-    const Image b = compose_image(rev, rgb_rev, {0.25, 0.5, 0.75, 0.125});
-    REQUIRE(a.pixels.size() == b.pixels.size());
+    r.in_order = compose_image(fwd, rgb_fwd, {0.25, 0.5, 0.75, 0.125});
+    r.reversed = compose_image(r.rev, r.rgb_rev, {0.25, 0.5, 0.75, 0.125});
+    return r;
+}
+
+std::size_t values_differing(const Image& a, const Image& b) {
     std::size_t differ = 0;
     for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
-    CHECK(differ == 0);
+    return differ;
+}
+
+}  // namespace
+
+TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-thread scatter on a large image", "[image]") {
+    // 1000 x 700 with every third pixel covered: the two paths must give equal images value for value.
+    const ComposedTwice r = compose_in_both_orders(1000, 700, 0, 3, 997);
+    const Image& a = r.in_order;
+    REQUIRE(a.pixels.size() == r.reversed.pixels.size());
+    CHECK(values_differing(a, r.reversed) == 0);
     CHECK(a.at(3, 0, 3) == 1.0f);     // pixel 3: covered
     CHECK(a.at(4, 0, 3) == 0.125f);   // pixel 4: background alpha
     CHECK(a.at(4, 0, 1) == 0.5f);
     // A fragment outside the image is an error, not a write out of bounds.
-    FragmentBuffer bad = rev;
-    bad.pixel[0] = npix;
-    CHECK_THROWS_WITH(compose_image(bad, rgb_rev, {0, 0, 0, 0}), Catch::Contains("outside the 1000x700 image"));
+    FragmentBuffer bad = r.rev;
+    bad.pixel[0] = 1000 * 700;
+    CHECK_THROWS_WITH(compose_image(bad, r.rgb_rev, {0, 0, 0, 0}), Catch::Contains("outside the 1000x700 image"));
 }
 
 TEST_CASE("compose_image of an image past the streamed-store size (2048 x 2048, 64 MB) equals the one-thread scatter",
           "[image]") {
     // Images of 64 MB and more are written with non-temporal stores (image.cpp, kStreamImageBytes): the same
-    // check as above at a size that takes that path, every fifth pixel covered, against the reversed fragments.
-    FragmentBuffer fwd, rev;
-    fwd.width = rev.width = 2048;
-    fwd.height = rev.height = 2048;
+    // check as above at a size that takes that path, every fifth pixel from pixel 1 covered.
     const int npix = 2048 * 2048;
-    std::vector<int> covered;
-    for (int p = 1; p < npix; p += 5) covered.push_back(p);
-    for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
-    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
-    const std::size_t n = covered.size();
-    std::vector<float> rgb_fwd(3 * n), rgb_rev(3 * n);
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < 3; ++c) {
-            rgb_fwd[c * n + i] = float(covered[i] % 1009) / 1009.0f + float(c);
-            rgb_rev[c * n + (n - 1 - i)] = rgb_fwd[c * n + i];
-        }
-    const Image a = compose_image(fwd, rgb_fwd, {0.25, 0.5, 0.75, 0.125});
-    const Image b = compose_image(rev, rgb_rev, {0.25, 0.5, 0.75, 0.125});
+    const ComposedTwice r = compose_in_both_orders(2048, 2048, 1, 5, 1009);
+    const Image& a = r.in_order;
     REQUIRE(a.pixels.size() == std::size_t(npix) * 4);
-    REQUIRE(a.pixels.size() == b.pixels.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
-    CHECK(differ == 0);
+    REQUIRE(a.pixels.size() == r.reversed.pixels.size());
+    CHECK(values_differing(a, r.reversed) == 0);
     CHECK(a.at(0, 0, 3) == 0.125f);   // pixel 0: background
     CHECK(a.at(0, 0, 2) == 0.75f);
     CHECK(a.at(1, 0, 3) == 1.0f);     // pixel 1: covered, its colour
