@@ -57,49 +57,45 @@ namespace {
 
 // Pixels [p0, p1) of an RGBA image: the fragments [f0, f1), whose pixel indices are strictly increasing and
 // inside the range, with their colour and alpha 1, every other pixel the background. Each pixel is written
-// once, in address order (no background pass under the fragments).
+// once, in address order (no background pass under the fragments), by put(p, red, green, blue, alpha).
+template <class Put>
 void compose_range(const std::int32_t* pixel, const float* r, const float* g, const float* b, const float bg[4],
-                   std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1, float* out) {
+                   std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1, const Put& put) {
+    const float bg_r = bg[0], bg_g = bg[1], bg_b = bg[2], bg_a = bg[3];
     auto background = [&](std::size_t from, std::size_t to) {
-        for (std::size_t p = from; p < to; ++p)
-            for (int c = 0; c < 4; ++c) out[p * 4 + std::size_t(c)] = bg[c];
+        for (std::size_t p = from; p < to; ++p) put(p, bg_r, bg_g, bg_b, bg_a);
     };
     std::size_t p = p0;
     for (std::size_t i = f0; i < f1; ++i) {
         const std::size_t q = std::size_t(pixel[i]);
         background(p, q);
-        out[q * 4 + 0] = r[i];
-        out[q * 4 + 1] = g[i];
-        out[q * 4 + 2] = b[i];
-        out[q * 4 + 3] = 1.0f;
+        put(q, r[i], g[i], b[i], 1.0f);
         p = q + 1;
     }
     background(p, p1);
 }
 
-#if defined(__SSE2__)
-// compose_range with non-temporal stores, one 16-byte RGBA pixel each (out 16-byte aligned): the same values,
-// written past the caches. An ordinary store first reads the line it writes into the cache ("read for
-// ownership"), so an image far larger than the caches costs its size twice in memory traffic; streamed, once.
-// The pixels go in address order, so the write-combining buffers fill whole lines. The fence makes the streamed
-// stores visible before the thread reports its range done.
-void compose_range_streamed(const std::int32_t* pixel, const float* r, const float* g, const float* b,
-                            const float bg[4], std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1,
-                            float* out) {
-    const __m128 back = _mm_loadu_ps(bg);
-    auto background = [&](std::size_t from, std::size_t to) {
-        for (std::size_t p = from; p < to; ++p) _mm_stream_ps(out + p * 4, back);
-    };
-    std::size_t p = p0;
-    for (std::size_t i = f0; i < f1; ++i) {
-        const std::size_t q = std::size_t(pixel[i]);
-        background(p, q);
-        _mm_stream_ps(out + q * 4, _mm_setr_ps(r[i], g[i], b[i], 1.0f));
-        p = q + 1;
+// compose_range's two ways to write a pixel of `out`: ordinary stores, or (SSE2, out 16-byte aligned) one
+// non-temporal 16-byte store, which writes past the caches. An ordinary store first reads the line it writes
+// into the cache ("read for ownership"), so an image far larger than the caches costs its size twice in memory
+// traffic; streamed, once. The pixels go in address order, so the write-combining buffers fill whole lines;
+// the caller fences after its range, so that the streamed stores are visible before it reports the range done.
+struct PutPixel {
+    float* out;
+    void operator()(std::size_t p, float r, float g, float b, float a) const {
+        out[p * 4 + 0] = r;
+        out[p * 4 + 1] = g;
+        out[p * 4 + 2] = b;
+        out[p * 4 + 3] = a;
     }
-    background(p, p1);
-    _mm_sfence();
-}
+};
+#if defined(__SSE2__)
+struct StreamPixel {
+    float* out;
+    void operator()(std::size_t p, float r, float g, float b, float a) const {
+        _mm_stream_ps(out + p * 4, _mm_setr_ps(r, g, b, a));
+    }
+};
 #endif
 
 // Images of at least this many bytes are written with streamed stores: past the last-level cache, where the
@@ -150,20 +146,22 @@ void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb,
     });
     if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; }))
         return compose_unordered(fb, rgb, bg, out);
+#if defined(__SSE2__)
     const bool stream = npix * 4 * sizeof(float) >= kStreamImageBytes && std::uintptr_t(out) % 16 == 0;
+#endif
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
-        const auto f0 = std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel;
-        const auto f1 = std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel;
+        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
+        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
+        const float *r = rgb.data(), *g = r + n, *b = g + n;
 #if defined(__SSE2__)
         if (stream) {
-            compose_range_streamed(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1,
-                                   std::size_t(f0), std::size_t(f1), out);
+            compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, StreamPixel{out});
+            _mm_sfence();
             return;
         }
 #endif
-        compose_range(pixel, rgb.data(), rgb.data() + n, rgb.data() + 2 * n, bg, p0, p1, std::size_t(f0),
-                      std::size_t(f1), out);
+        compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, PutPixel{out});
     });
 }
 
