@@ -68,15 +68,18 @@ private:
     std::exception_ptr e_;
 };
 
+// Part i of a job, its exception (if any) recorded in `error`.
+void run_part(ParallelCall call, const void* fn, int i, FirstError& error) {
+    try {
+        call(fn, i);
+    } catch (...) {
+        error.capture();
+    }
+}
+
 // fn(i) for i in [1, n) on threads started for this call alone (the pool is busy or cannot start threads).
 void run_on_new_threads(int n, ParallelCall call, const void* fn, FirstError& error) {
-    auto part = [&](int i) {
-        try {
-            call(fn, i);
-        } catch (...) {
-            error.capture();
-        }
-    };
+    auto part = [&](int i) { run_part(call, fn, i, error); };
     std::vector<std::thread> threads;
     int started = 1;
     try {
@@ -121,13 +124,7 @@ private:
         FirstError* error = nullptr;
     };
 
-    void run_part(int i) {
-        try {
-            job_.call(job_.fn, i);
-        } catch (...) {
-            job_.error->capture();
-        }
-    }
+    void run_part(int i) { detail::run_part(job_.call, job_.fn, i, *job_.error); }
 
     // Starts workers until there are `want` of them (fewer if a thread cannot be started).
     void grow(int want) {

@@ -136,9 +136,8 @@ bool in_guard_band(const glm::dvec4& c, double guard) {
 // A vertex's clip tests, one bit each, computed once per vertex (its SetupVertex's `code`): a triangle's tests
 // are then bit operations on the three records it reads anyway, where loading its three clip-space vertices
 // (scattered over memory when the mesh's order is not spatial: the bunny's, the dragon's) made set-up wait on
-// memory. The low six bits are
-// the frustum planes, so that the triangle is trivially outside when one bit is set in all three (all three
-// vertices beyond the same plane); kBehindNear and kOffGuard ask for clipping.
+// memory. The low six bits are the frustum planes, so that the triangle is trivially outside when one bit is
+// set in all three (all three vertices beyond the same plane); kBehindNear and kOffGuard ask for clipping.
 enum Outcode : std::uint8_t {
     kBeyondRight = 1, kBeyondLeft = 2, kBeyondTop = 4, kBeyondBottom = 8, kBeyondFar = 16, kBeyondNearZ = 32,
     kFrustumBits = 63, kBehindNear = 64, kOffGuard = 128
