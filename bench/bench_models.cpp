@@ -217,9 +217,9 @@ std::string capture_output(F&& f) {
     return text;
 }
 
-// The loop vectoriser's verdict from PoCL's remarks for one kernel compilation: "8" when every work-item loop
-// it reports on was vectorised 8 wide; "no: <first reason>" when none was; "8/no: <reason>" when some were
-// ("?" if it printed no remark on a loop, e.g. the kernel came from a cache).
+// The loop vectoriser's verdict from PoCL's remarks for one kernel compilation: "16" when every loop it reports
+// on (the fragment loop, or PoCL's work-item loop) was vectorised 16 wide; "no: <first reason>" when none was;
+// "8/no: <reason>" when some were ("?" if it printed no remark on a loop, e.g. the kernel came from a cache).
 std::string vectoriser_verdict(const std::string& remarks) {
     std::set<std::string> widths;
     std::string reason;
@@ -229,7 +229,12 @@ std::string vectoriser_verdict(const std::string& remarks) {
         const std::size_t q = p + vec.size();
         widths.insert(remarks.substr(q, remarks.find_first_not_of("0123456789", q) - q));
     }
-    const std::size_t p = remarks.find(novec);
+    // The work-item loop around a fragment loop that clang already widened (kernels/shade_parts.cl,
+    // SL_VECTOR_WIDTH > 1) is reported as not vectorised "because already vectorized": that is no refusal.
+    const std::string already = "vectorization and interleaving are explicitly disabled, or the loop has already";
+    std::size_t p = remarks.find(novec);
+    while (p != std::string::npos && remarks.compare(p + novec.size(), already.size(), already) == 0)
+        p = remarks.find(novec, p + 1);
     if (p != std::string::npos) {
         const std::size_t q = p + novec.size();
         reason = remarks.substr(q, std::min(remarks.find("<unknown>", q), remarks.find('\n', q)) - q);

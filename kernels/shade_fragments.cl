@@ -5,7 +5,12 @@
 #ifndef SL_SHADE_EXTRA_ARGS
 #define SL_SHADE_EXTRA_ARGS
 #endif
-// One fragment: sum over lights of incident * model, plus ambient * albedo.
+// clang may not widen the fragment loop when it first optimises the program (clBuildProgram): the loop is
+// widened later, in PoCL's work-group compilation (bench_models prints the width), so clang's "loop not
+// vectorized" warning at the first stage is noise on the user's stderr.
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wpass-failed"
+// One fragment: sum over lights of incident * model, plus ambient * albedo; SL_FRAGS_PER_ITEM fragments a work-item.
 __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const float* restrict py,
                               __global const float* restrict pz, __global const float* restrict nx,
                               __global const float* restrict ny, __global const float* restrict nz,
@@ -20,26 +25,30 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
     SL_PRIVATE_CONSTS(mc, mc_arg);   // the constants and lights as private copies: see common.cl's SL_CONSTS
     DeviceLight lights[SL_NUM_LIGHTS];
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) lights[l] = lights_arg[l];
-    const size_t i = get_global_id(0);
-    const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
-    const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
-    const sl_v3 V = view_dir_v3(view, P);
-    float r = ambient.x * mc->albedo[0], g = ambient.y * mc->albedo[1], b = ambient.z * mc->albedo[2];
+    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;   // shade_parts.cl: SL_FRAGS_PER_ITEM, the loop
+    SL_FRAGMENT_LOOP
+    for (size_t i = first; i < first + SL_FRAGS_PER_ITEM; ++i) {
+        const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
+        const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
+        const sl_v3 V = view_dir_v3(view, P);
+        float r = ambient.x * mc->albedo[0], g = ambient.y * mc->albedo[1], b = ambient.z * mc->albedo[2];
 #pragma unroll
-    for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
-        sl_v3 L;
-        const float e = light_incident_v3(&lights[l], P, &L);
-        // Each light's evaluation after the previous light's (common.cl's sl_after): the unrolled loop makes the
-        // model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>, which
-        // stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
-        L.x = sl_after(L.x, r);
-        const sl_rgb v = SL_EVAL_AT(N, L, V, P, mc);
-        const float* rad = lights[l].radiance;
-        r += (rad[0] * e) * v.r;
-        g += (rad[1] * e) * v.g;
-        b += (rad[2] * e) * v.b;
+        for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
+            sl_v3 L;
+            const float e = light_incident_v3(&lights[l], P, &L);
+            // Each light's evaluation after the previous light's (common.cl's sl_after): the unrolled loop makes
+            // the model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>,
+            // which stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).
+            L.x = sl_after(L.x, r);
+            const sl_rgb v = SL_EVAL_AT(N, L, V, P, mc);
+            const float* rad = lights[l].radiance;
+            r += (rad[0] * e) * v.r;
+            g += (rad[1] * e) * v.g;
+            b += (rad[2] * e) * v.b;
+        }
+        out[i] = sl_finite_or_zero(r);
+        out[stride + i] = sl_finite_or_zero(g);
+        out[2 * stride + i] = sl_finite_or_zero(b);
     }
-    out[i] = sl_finite_or_zero(r);
-    out[stride + i] = sl_finite_or_zero(g);
-    out[2 * stride + i] = sl_finite_or_zero(b);
 }
+#pragma clang diagnostic pop

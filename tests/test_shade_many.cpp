@@ -154,3 +154,46 @@ TEST_CASE("shade: a shared program that does not build throws and leaves shade()
     }
     fs::remove_all(dir);
 }
+
+// The fragment loop (kernels/shade_parts.cl, SL_VECTOR_WIDTH): a work-item shades the device's vector width of
+// fragments, launched as n / width work-items. Every model of the catalogue gives the pixels of one fragment a
+// work-item (the form PoCL's own work-item loop vectorises), bit for bit, with a tail (1000 is not a multiple of
+// the work-group) and two lights; fast mode for the models whose fast build is other code (the pow models).
+TEST_CASE("shade: the fragment loop at the device's vector width gives one-fragment-a-work-item pixels, bit for bit",
+          "[shade][vector_width]") {
+    Runtime one(RuntimeOptions{"", -1, "", "off", 1}), wide(RuntimeOptions{"", -1, "", "off"});
+    REQUIRE(one.vector_width() == 1);
+    INFO("device vector width " << wide.vector_width());
+    REQUIRE((wide.vector_width() >= 1 && wide.vector_width() <= 16));
+    Shader a(one), b(wide);
+    const FragmentBuffer fb = random_fragments(1000, 13);
+    std::size_t compared = 0;
+    for (const auto& info : model_catalogue()) {
+        const Material m = default_of(info.name);
+        for (Precision p : {Precision::Precise, Precision::Fast}) {
+            if (p == Precision::Fast && info.name.find("phong") == std::string::npos &&
+                info.name.find("minnaert") == std::string::npos && info.name != "toon")
+                continue;
+            INFO("model " << m.model << ", " << precision_name(p));
+            const std::vector<float> x = a.shade(fb, setup_of(m, kDirectionalAndPoint, p));
+            const std::vector<float> y = b.shade(fb, setup_of(m, kDirectionalAndPoint, p));
+            REQUIRE(x.size() == 3 * fb.size());
+            CHECK(same_bits(x, y));
+            ++compared;
+        }
+    }
+    CHECK(compared > model_catalogue().size());
+}
+
+TEST_CASE("shade: a work-group size that is not a multiple of the vector width is refused with one line",
+          "[shade][vector_width]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off", 16});
+    Shader shader(rt);
+    ShadeSetup s = setup_of(default_of("lambert"), kOneDirectional, Precision::Precise);
+    s.local_size = 24;
+    REQUIRE_THROWS_WITH(shader.shade(random_fragments(100, 3), s),
+                        Catch::Contains("work-group size 24") && Catch::Contains("multiple of the 16 fragments"));
+    s.local_size = 32;
+    CHECK(shader.shade(random_fragments(100, 3), s).size() == 300);
+    CHECK_THROWS_WITH(Runtime(RuntimeOptions{"", -1, "", "off", 3}), Catch::Contains("vector width 3"));
+}

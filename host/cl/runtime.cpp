@@ -121,6 +121,26 @@ int env_device_index() {
     return int(v);
 }
 
+// The fragments one shading work-item evaluates, side by side in SIMD lanes (kernels/shade_fragments.cl,
+// SL_VECTOR_WIDTH): `requested` when not 0, else SHADELAB_VECTOR_WIDTH when set (1, 2, 4, 8 or 16), else the
+// device's native float vector width (PoCL: 16 on AVX-512 hosts, 8 on AVX2), rounded down to a power of two in
+// [1, 16].
+std::size_t choose_vector_width(const cl::Device& device, std::size_t requested) {
+    const std::string env = env_or("SHADELAB_VECTOR_WIDTH", "");
+    if (requested == 0 && !env.empty()) {
+        if (env != "1" && env != "2" && env != "4" && env != "8" && env != "16")
+            throw Error("SHADELAB_VECTOR_WIDTH='" + env + "' is not a vector width: use 1, 2, 4, 8 or 16 (or unset it)");
+        requested = std::size_t(std::stoul(env));
+    }
+    if (requested > 16 || (requested & (requested - 1)) != 0)
+        throw Error("vector width " + std::to_string(requested) + " is not one of 1, 2, 4, 8, 16");
+    if (requested != 0) return requested;
+    const cl_uint native = device.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
+    std::size_t width = 1;
+    while (width * 2 <= std::min<cl_uint>(native, 16)) width *= 2;
+    return width;
+}
+
 // The platform whose name contains `want` (lower case), else PoCL, else the first one when nothing was asked.
 cl::Platform choose_platform(const std::vector<cl::Platform>& platforms, const std::string& want) {
     std::vector<std::string> names;
@@ -181,6 +201,7 @@ Runtime::Runtime(const RuntimeOptions& options) {
         device_ = choose_device(platform_, want_device);
         context_ = cl::Context(device_);
         queue_ = cl::CommandQueue(context_, device_, CL_QUEUE_PROFILING_ENABLE);
+        vector_width_ = choose_vector_width(device_, options.vector_width);
         device_identity_ = platform_.getInfo<CL_PLATFORM_NAME>() + "\n" + platform_.getInfo<CL_PLATFORM_VERSION>() +
                            "\n" + device_.getInfo<CL_DEVICE_NAME>() + "\n" + device_.getInfo<CL_DEVICE_VERSION>() +
                            "\n" + device_.getInfo<CL_DRIVER_VERSION>();
@@ -318,7 +339,9 @@ Built load_or_build(const BuildContext& c, const std::string& main_file, const s
 
 cl::Program Runtime::build(const std::string& main_file, const std::vector<std::string>& defines,
                            const std::string& extra_options) {
-    const std::string options = build_options(kernel_dir_, defines, extra_options);
+    std::vector<std::string> all = defines;
+    all.push_back("SL_VECTOR_WIDTH=" + std::to_string(vector_width_));
+    const std::string options = build_options(kernel_dir_, all, extra_options);
     const std::string key = main_file + "|" + options;
     const auto slot = std::make_pair(static_cast<const void*>(this), key);
     std::promise<cl::Program> promise;

@@ -27,6 +27,8 @@ struct RuntimeOptions {
     std::string kernel_dir;           // empty: search as described above
     std::string program_cache;        // empty: env SHADELAB_PROGRAM_CACHE, else the XDG cache folder;
                                       // "off": no program-binary cache (see cl/program_cache.hpp)
+    std::size_t vector_width = 0;     // fragments a shading work-item evaluates (1, 2, 4, 8, 16); 0: env
+                                      // SHADELAB_VECTOR_WIDTH, else the device's native float width
 };
 
 class Runtime {
@@ -44,11 +46,14 @@ public:
     const cl::Device& device() const { return device_; }
     const std::string& kernel_dir() const { return kernel_dir_; }
     std::string device_description() const;   // "device name (platform name, OpenCL C version)"
+    // Fragments a shading work-item evaluates side by side (SIMD lanes), passed to every program as
+    // SL_VECTOR_WIDTH: the device's native float width (16 on AVX-512, 8 on AVX2), or SHADELAB_VECTOR_WIDTH.
+    std::size_t vector_width() const { return vector_width_; }
 
     // Builds (or returns the cached) program whose main file is `main_file` (relative to kernel_dir),
-    // with `-I kernel_dir`, one `-D` per define, then `extra_options` (e.g. -cl-mad-enable). The file is
-    // passed unmodified, so build-log line numbers match the files on disk. A build failure throws
-    // shadelab::Error with the log, the options and the device.
+    // with `-I kernel_dir`, one `-D` per define and SL_VECTOR_WIDTH (vector_width()), then `extra_options`
+    // (e.g. -cl-mad-enable). The file is passed unmodified, so build-log line numbers match the files on disk.
+    // A build failure throws shadelab::Error with the log, the options and the device.
     cl::Program build(const std::string& main_file, const std::vector<std::string>& defines,
                       const std::string& extra_options = "");
 
@@ -73,6 +78,7 @@ private:
     std::string cache_dir_;
     std::string kernel_tree_;          // every kernel file's text, read at the first build (cache key)
     std::string device_identity_;
+    std::size_t vector_width_ = 1;
     struct Stored {
         std::string key;
         cl::Program program;

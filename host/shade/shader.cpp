@@ -256,15 +256,16 @@ LaunchBuffers tail_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_
     return b;
 }
 
-// Enqueues one launch of `count` work-items (a multiple of the work-group size unless `local` is kLocalAuto).
+// Enqueues one launch over `count` fragments (a multiple of the work-group's `local` fragments unless `local`
+// is kLocalAuto), `per_item` of them a work-item (the program's SL_VECTOR_WIDTH: kernels/shade_parts.cl).
 cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers& b, std::size_t count,
-                         std::size_t local) {
+                         std::size_t local, std::size_t per_item) {
     for (cl_uint c = 0; c < 6; ++c) k.setArg(c, b.in[c]);
     k.setArg(6, b.out);
     k.setArg(7, cl_uint(b.stride));
     cl::Event ev;
-    const cl::NDRange groups = local == Shader::kLocalAuto ? cl::NullRange : cl::NDRange(local);
-    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count), groups, nullptr, &ev);
+    const cl::NDRange groups = local == Shader::kLocalAuto ? cl::NullRange : cl::NDRange(local / per_item);
+    q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count / per_item), groups, nullptr, &ev);
     return ev;
 }
 
@@ -303,6 +304,11 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     using clock = std::chrono::steady_clock;
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
+    const std::size_t per_item = rt_.vector_width();   // fragments a work-item: every program's SL_VECTOR_WIDTH
+    if (group % per_item != 0)
+        throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
+                    std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
+                    std::to_string(per_item) + " (or SHADELAB_VECTOR_WIDTH)");
     const std::size_t body = n / group * group, tail = n - body;
     // Fresh `out` pages are touched here (zero-filled, huge pages advised: a 4096x4096 frame's 44 MB took ~26 ms
     // of 4 KB page faults), not first-touched page by page inside the kernel's time; `out`'s own memory is
@@ -340,8 +346,8 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
         k.setArg(12, btab);
         cl::Event ev_main, ev_rest;
-        if (body) ev_main = enqueue_launch(q, k, main, body, local);
-        if (tail) ev_rest = enqueue_launch(q, k, rest, group, local);
+        if (body) ev_main = enqueue_launch(q, k, main, body, local, per_item);
+        if (tail) ev_rest = enqueue_launch(q, k, rest, group, local, per_item);
         q.finish();
         const auto t3 = clock::now();
         if (body) sync_to_host(q, main.out, out.data(), out.size());

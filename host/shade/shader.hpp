@@ -28,8 +28,9 @@ struct ShadeSetup {
     // the same for every fragment (orthographic views such as the moon disc).
     glm::dvec4 view{0.0, 0.0, 3.0, 1.0};
     Precision precision = Precision::Precise;
-    // Work-group size of the launch: 0 = Shader::kLocalSize; Shader::kLocalAuto = let the OpenCL runtime
-    // choose (NullRange). Only the benchmark's local-size study sets it; the result does not depend on it.
+    // Work-group size of the launch in fragments (a multiple of Runtime::vector_width(), the fragments a
+    // work-item shades): 0 = Shader::kLocalSize; Shader::kLocalAuto = let the OpenCL runtime choose (NullRange).
+    // Only the benchmark's local-size study sets it; the result does not depend on it.
     std::size_t local_size = 0;
 };
 
