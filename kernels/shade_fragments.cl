@@ -25,9 +25,12 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
     SL_PRIVATE_CONSTS(mc, mc_arg);   // the constants and lights as private copies: see common.cl's SL_CONSTS
     DeviceLight lights[SL_NUM_LIGHTS];
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) lights[l] = lights_arg[l];
-    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;   // shade_parts.cl: SL_FRAGS_PER_ITEM, the loop
+    // shade_parts.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
+    // at one fragment a work-item the loop is gone before PoCL builds its work-item loop.
+    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
     SL_FRAGMENT_LOOP
-    for (size_t i = first; i < first + SL_FRAGS_PER_ITEM; ++i) {
+    for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k) {
+        const size_t i = first + k;
         const sl_v3 P = sl_v3_make(px[i], py[i], pz[i]);
         const sl_v3 N = sl_v3_make(nx[i], ny[i], nz[i]);
         const sl_v3 V = view_dir_v3(view, P);
