@@ -5,9 +5,11 @@
 // nothing about speed. Besides evaluations per (wall-clock) second, each PoCL row gives evaluations per CPU second
 // of this process (PoCL's threads included), which a loaded machine changes much less: on an idle machine with
 // 2 cores the wall-clock rate approaches twice it.
-//   bench_photometry [--n N] [--smoke] [--baseline-kernels DIR]
+//   bench_photometry [--n N] [--smoke] [--baseline-kernels DIR [--baseline-width W]]
 // --baseline-kernels times the laws' kernels built from another kernels/ folder as well, in the same run, for a
 // before/after comparison (e.g. DIR from `git archive BASE kernels | tar -x -C SOMEWHERE`, then SOMEWHERE/kernels).
+// The baseline runs --baseline-width rows a work-item (default 1: kernels from before SL_VECTOR_WIDTH, which
+// evaluate one row a work-item whatever the width, are launched as they were).
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -140,13 +142,15 @@ KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     k.setArg(8, cl_uint(n));
     k.setArg(9, bc);
     // make_rows pads to a multiple of 256 (the kernel has no bounds check); the first launch compiles
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(256));
+    const std::size_t per_item = rt.vector_width();   // rows a work-item (kernels/photometry.cl)
+    const cl::NDRange global(n / per_item), local(256 / per_item);
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
     rt.queue().finish();
     double best = 1e30;
     const double c0 = cpu_seconds();
     for (int rep = 0; rep < 5; ++rep) {
         const auto t0 = clock_type::now();
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(256));
+        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
         rt.queue().finish();
         best = std::min(best, seconds(t0, clock_type::now()));
     }
@@ -166,6 +170,9 @@ int main(int argc, char** argv) {
     std::string baseline_dir;
     CLI::App app{"bench_photometry: Hapke on PoCL against a 2-thread C++ loop and the double reference"};
     app.add_flag("--smoke", smoke, "Tiny run for the test suite (4096 geometries), no timing claims");
+    std::size_t baseline_width = 1;
+    app.add_option("--baseline-width", baseline_width, "Rows a work-item for the baseline's kernels (1, 2, 4, 8, 16)")
+        ->check(CLI::IsMember({1, 2, 4, 8, 16}));
     app.add_option("--baseline-kernels", baseline_dir, "Also time the laws with the kernels of this folder (before/after)")
         ->check(CLI::ExistingDirectory);
     app.add_option("--n", n, "Geometries per run")->check(CLI::Range(std::size_t(256), std::size_t(1) << 28));
@@ -231,7 +238,8 @@ int main(int argc, char** argv) {
 
     // The other laws' kernels on the same rows (ISIS's unit-test parameters where it has them).
     std::unique_ptr<Runtime> base_rt;
-    if (!baseline_dir.empty()) base_rt = std::make_unique<Runtime>(RuntimeOptions{"", -1, baseline_dir});
+    if (!baseline_dir.empty())
+        base_rt = std::make_unique<Runtime>(RuntimeOptions{"", -1, baseline_dir, "", baseline_width});
     std::printf("\nPoCL throughput of every photometric law on the same %zu rows%s:\n%-28s %12s %16s", n,
                 base_rt ? " (this tree's kernels, then the baseline's)" : "", "law", "evals/s", "evals/CPU-s");
     if (base_rt) std::printf(" %14s %16s %8s", "baseline/s", "baseline/CPU-s", "speedup");

@@ -109,6 +109,31 @@ SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
 // NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign of a zero x).
 SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 
+// ---- several fragments a work-item: SL_VECTOR_WIDTH ----------------------------------------------------------
+// The fragments (or photometric rows) one work-item evaluates, in one loop that clang's loop vectoriser widens to
+// that many lanes (kernels/shade_fragments.cl, kernels/photometry.cl): SL_VECTOR_WIDTH, which the host's Runtime
+// passes to every program (the device's native float vector width: 16 on AVX-512, 8 on AVX2; 1 when a program is
+// built without it), and the host launches n / SL_FRAGS_PER_ITEM work-items. Why not one fragment a work-item,
+// as PoCL's own work-item loop vectoriser would widen it: that vectoriser keeps to 8 lanes on AVX-512 hosts
+// (LLVM's 256-bit preference for skylake-avx512) and never interleaves, and the transcendental models are
+// latency-bound chains (Hapke: ~550 cycles an iteration against a throughput bound of 244, llvm-mca): 16 lanes in
+// 512-bit registers carry twice the work through the same chain (docs/speed.md, "Sixteen lanes"). The
+// dispatching kernel (SL_DISPATCH) cannot be vectorised at all (its switch): the same loop, no request.
+// clang may not widen the loop when it first optimises the program (clBuildProgram); it is widened later, in
+// PoCL's work-group compilation (bench_models prints the width), so the kernels silence clang's "loop not
+// vectorized" warning of the first stage (-Wpass-failed), which would be noise on the user's stderr.
+#ifndef SL_VECTOR_WIDTH
+#define SL_VECTOR_WIDTH 1
+#endif
+#define SL_FRAGS_PER_ITEM SL_VECTOR_WIDTH
+#define SL_PRAGMA_(x) _Pragma(#x)
+#define SL_PRAGMA(x) SL_PRAGMA_(x)
+#if SL_FRAGS_PER_ITEM > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
+#define SL_FRAGMENT_LOOP SL_PRAGMA(clang loop vectorize_width(SL_FRAGS_PER_ITEM) interleave_count(1))
+#else
+#define SL_FRAGMENT_LOOP
+#endif
+
 // ---- trigonometry: own, vectorisable ----------------------------------------------------------------------
 // PoCL 3.1's sin, cos, tan, asin, acos, atan and atan2 are library calls that its work-item loop vectoriser
 // cannot widen ("call instruction cannot be vectorized"): one call and the whole model runs one fragment at a

@@ -23,16 +23,11 @@ SL_INLINE float pho_finite_or_zero(float v) {
     return as_float(u & (nonfinite - 1u));
 }
 
-__kernel void eval_photometric(__global const float* restrict mu0, __global const float* restrict mu,
-                               __global const float* restrict sin_i, __global const float* restrict sin_e,
-                               __global const float* restrict cos_g, __global const float* restrict tan_half_g,
-                               __global const float* restrict tan_half_psi, __global float* restrict out, const uint n,
-                               __constant const ModelConsts* mc_arg) {
-    // No bounds check: the host pads every array to the launch size (a check here would put the constants' loads
-    // under a condition, where PoCL's work-item loop cannot hoist them; kernels/shade.cl says more). `n` is unused.
-    (void)n;
-    SL_PRIVATE_CONSTS(mc, mc_arg);   // see common.cl's SL_CONSTS
-    const size_t i = get_global_id(0);
+// The law at row i of the seven arrays, written as the kernels below write it (non-finite as 0 unless SL_PHO_RAW).
+SL_INLINE float pho_row(size_t i, __global const float* restrict mu0, __global const float* restrict mu,
+                        __global const float* restrict sin_i, __global const float* restrict sin_e,
+                        __global const float* restrict cos_g, __global const float* restrict tan_half_g,
+                        __global const float* restrict tan_half_psi, const ModelConsts* mc) {
     sl_pho g;
     g.mu0 = mu0[i];
     g.mu = mu[i];
@@ -50,8 +45,27 @@ __kernel void eval_photometric(__global const float* restrict mu0, __global cons
     const sl_v3 V = sl_v3_make(g.sin_e * cos_psi, g.sin_e * sin_psi, g.mu);
     const float v = SL_EVAL(N, L, V, N, mc).r;
 #endif
-    out[i] = pho_finite_or_zero(v);
+    return pho_finite_or_zero(v);
 }
+
+// Every row: SL_FRAGS_PER_ITEM rows a work-item (common.cl's SL_FRAGMENT_LOOP; -Wpass-failed: see there).
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wpass-failed"
+__kernel void eval_photometric(__global const float* restrict mu0, __global const float* restrict mu,
+                               __global const float* restrict sin_i, __global const float* restrict sin_e,
+                               __global const float* restrict cos_g, __global const float* restrict tan_half_g,
+                               __global const float* restrict tan_half_psi, __global float* restrict out, const uint n,
+                               __constant const ModelConsts* mc_arg) {
+    // No bounds check: the host pads every array to the launch size (a check here would put the constants' loads
+    // under a condition, where PoCL's work-item loop cannot hoist them; kernels/shade.cl says more). `n` is unused.
+    (void)n;
+    SL_PRIVATE_CONSTS(mc, mc_arg);   // see common.cl's SL_CONSTS
+    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
+    SL_FRAGMENT_LOOP
+    for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k)
+        out[first + k] = pho_row(first + k, mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, mc);
+}
+#pragma clang diagnostic pop
 
 // ISIS's empirical laws with the phase-dependent parameter and brightness already interpolated per row (the host
 // evaluates ISIS's spline of K(g) or L(g) and of B(g) in double):
@@ -67,32 +81,22 @@ __kernel void eval_empirical(__global const float* restrict mu0, __global const 
     out[i] = pho_finite_or_zero(a > 0.0f && b > 0.0f ? brightness[i] * v : 0.0f);
 }
 
-// Many parameter sets at once (the fits of host/photometry/fit.hpp): work-item (i, s) evaluates row i with the
-// constants sets[s] and writes out[s * stride + i]. The rows are uploaded once per fit; each launch carries the
-// current parameters, their finite-difference neighbours and the trial steps. No bounds check (the host pads).
+// Many parameter sets at once (the fits of host/photometry/fit.hpp): work-item (w, s) evaluates rows
+// w SL_FRAGS_PER_ITEM .. (w + 1) SL_FRAGS_PER_ITEM - 1 with the constants sets[s], row i into out[s * stride + i].
+// The rows are uploaded once per fit; each launch carries the current parameters, their finite-difference
+// neighbours and the trial steps. No bounds check (the host pads).
+#pragma clang diagnostic push
+#pragma clang diagnostic ignored "-Wpass-failed"
 __kernel void eval_photometric_sets(__global const float* restrict mu0, __global const float* restrict mu,
                                     __global const float* restrict sin_i, __global const float* restrict sin_e,
                                     __global const float* restrict cos_g, __global const float* restrict tan_half_g,
                                     __global const float* restrict tan_half_psi, __global float* restrict out,
                                     const uint stride, __constant const ModelConsts* sets) {
-    const size_t i = get_global_id(0), s = get_global_id(1);
+    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM, s = get_global_id(1);
     SL_PRIVATE_CONSTS(mc, sets + s);   // see common.cl's SL_CONSTS
-    sl_pho g;
-    g.mu0 = mu0[i];
-    g.mu = mu[i];
-    g.sin_i = sin_i[i];
-    g.sin_e = sin_e[i];
-    g.cos_g = cos_g[i];
-    g.tan_half_g = tan_half_g[i];
-    g.tan_half_psi = tan_half_psi[i];
-#ifdef SL_PHO_EVAL
-    const float v = mc->albedo[0] * SL_PHO_EVAL(g, mc);
-#else
-    const float t2 = g.tan_half_psi * g.tan_half_psi;
-    const float cos_psi = (1.0f - t2) / (1.0f + t2), sin_psi = 2.0f * g.tan_half_psi / (1.0f + t2);
-    const sl_v3 N = sl_v3_make(0.0f, 0.0f, 1.0f), L = sl_v3_make(g.sin_i, 0.0f, g.mu0);
-    const sl_v3 V = sl_v3_make(g.sin_e * cos_psi, g.sin_e * sin_psi, g.mu);
-    const float v = SL_EVAL(N, L, V, N, mc).r;
-#endif
-    out[s * (size_t)stride + i] = pho_finite_or_zero(v);
+    SL_FRAGMENT_LOOP
+    for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k)
+        out[s * (size_t)stride + first + k] =
+            pho_row(first + k, mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, mc);
 }
+#pragma clang diagnostic pop

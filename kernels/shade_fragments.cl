@@ -5,9 +5,7 @@
 #ifndef SL_SHADE_EXTRA_ARGS
 #define SL_SHADE_EXTRA_ARGS
 #endif
-// clang may not widen the fragment loop when it first optimises the program (clBuildProgram): the loop is
-// widened later, in PoCL's work-group compilation (bench_models prints the width), so clang's "loop not
-// vectorized" warning at the first stage is noise on the user's stderr.
+// -Wpass-failed: see common.cl's SL_FRAGMENT_LOOP.
 #pragma clang diagnostic push
 #pragma clang diagnostic ignored "-Wpass-failed"
 // One fragment: sum over lights of incident * model, plus ambient * albedo; SL_FRAGS_PER_ITEM fragments a work-item.
@@ -25,7 +23,7 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
     SL_PRIVATE_CONSTS(mc, mc_arg);   // the constants and lights as private copies: see common.cl's SL_CONSTS
     DeviceLight lights[SL_NUM_LIGHTS];
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) lights[l] = lights_arg[l];
-    // shade_parts.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
+    // common.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
     // at one fragment a work-item the loop is gone before PoCL builds its work-item loop.
     const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
     SL_FRAGMENT_LOOP

@@ -16,27 +16,6 @@
 #define SL_ALL_DIRECTIONAL 0
 #endif
 
-// The fragments one shading work-item evaluates (kernels/shade_fragments.cl): SL_VECTOR_WIDTH, which the host's
-// Runtime passes to every program (the device's native float vector width: 16 on AVX-512, 8 on AVX2; 1 when a
-// program is built without it), in one loop that clang's loop vectoriser widens to that many lanes. Why not
-// one fragment per work-item, as PoCL's own work-item loop vectoriser would widen it: that vectoriser keeps to
-// 8 lanes on AVX-512 hosts (LLVM's 256-bit preference for skylake-avx512) and never interleaves, and the
-// transcendental models are latency-bound chains (Hapke: ~550 cycles an iteration against a throughput bound
-// of 244, llvm-mca): 16 lanes in 512-bit registers carry twice the work through the same chain (docs/speed.md,
-// "Sixteen lanes"). The host launches n / SL_FRAGS_PER_ITEM work-items (Shader::shade_into). The dispatching
-// kernel (SL_DISPATCH) cannot be vectorised at all (its switch): one loop, no request.
-#ifndef SL_VECTOR_WIDTH
-#define SL_VECTOR_WIDTH 1
-#endif
-#define SL_FRAGS_PER_ITEM SL_VECTOR_WIDTH
-#define SL_PRAGMA_(x) _Pragma(#x)
-#define SL_PRAGMA(x) SL_PRAGMA_(x)
-#if SL_FRAGS_PER_ITEM > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
-#define SL_FRAGMENT_LOOP SL_PRAGMA(clang loop vectorize_width(SL_FRAGS_PER_ITEM) interleave_count(1))
-#else
-#define SL_FRAGMENT_LOOP
-#endif
-
 // Every kernel below takes the material's table buffer `tab` as its last argument (a 1-float buffer, never read,
 // for the models without a table); only a table model's eval is handed it.
 #if defined(SL_TABLE) && SL_TABLE

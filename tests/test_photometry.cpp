@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -13,6 +14,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "models/catalogue.hpp"
+#include "shade/shader.hpp"
 #include "moon/photometry.hpp"
 #include "photometry/csv.hpp"
 #include "photometry/empirical.hpp"
@@ -669,4 +672,39 @@ TEST_CASE("round trip: discs rendered with McEwen's L(g) give back L(g) from a L
         CHECK(f.param == Approx(L).margin(1e-4));
         CHECK(f.c1 == Approx(0.3).epsilon(1e-4));
     }
+}
+
+// eval_photometric evaluates the device's vector width of rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM):
+// every law gives the values of one row a work-item, bit for bit, over rows that fill no whole work-group.
+TEST_CASE("photometry eval: rows a work-item at the device's vector width give one-row-a-work-item values, bit for bit",
+          "[photometry][vector_width]") {
+    Runtime one(RuntimeOptions{"", -1, "", "off", 1}), wide(RuntimeOptions{"", -1, "", "off"});
+    INFO("device vector width " << wide.vector_width());
+    std::vector<photometry::Geometry> rows;
+    for (int k = 0; k < 1000; ++k)   // a fixed spread of phase, incidence and emission, some past 90 degrees
+        rows.push_back({std::fmod(k * 37.7, 180.0), std::fmod(k * 13.1, 100.0), std::fmod(k * 7.3, 95.0)});
+    std::size_t compared = 0;
+    for (const char* model : {"hapke_hen", "hapke_leg", "hapke_2012", "lunar_lambert", "lunar_lambert_mcewen",
+                              "lommel_seeliger", "minnaert", "lambert", "oren_nayar"}) {
+        bool known = false;
+        for (const auto& info : model_catalogue()) known = known || info.name == model;
+        if (!known) continue;
+        const photometry::Law law = photometry::law_from_model(model, {});
+        for (Precision p : {Precision::Precise, Precision::Fast}) {
+            INFO("law " << model << ", " << precision_name(p));
+            const std::vector<double> a = photometry::evaluate(one, law, rows, p, true);
+            const std::vector<double> b = photometry::evaluate(wide, law, rows, p, true);
+            REQUIRE(a.size() == rows.size());
+            REQUIRE(b.size() == rows.size());
+            std::size_t differ = 0, lit = 0;
+            for (std::size_t r = 0; r < rows.size(); ++r) {
+                differ += std::memcmp(&a[r], &b[r], sizeof(double)) != 0 ? 1 : 0;
+                lit += a[r] > 0.0 ? 1 : 0;
+            }
+            CHECK(differ == 0);
+            CHECK(lit > 100);   // the comparison is of values, not of zeros
+            ++compared;
+        }
+    }
+    CHECK(compared >= 12);
 }

@@ -439,7 +439,10 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 k.setArg(8, cl_uint(n));
                 k.setArg(9, keep.back());
             }
-            rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded), cl::NDRange(local));
+            // eval_photometric shades rt.vector_width() rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM)
+            const std::size_t per_item = law.empirical ? 1 : rt.vector_width();
+            rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded / per_item),
+                                            cl::NDRange(local / per_item));
             std::vector<float> out(n);
             rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
             for (std::size_t j = 0; j < n; ++j) result[first + j] = out[j];
