@@ -125,7 +125,13 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 #ifndef SL_VECTOR_WIDTH
 #define SL_VECTOR_WIDTH 1
 #endif
+// SL_MAX_LANES caps it for one program: the host builds the shade programs of the models that read normals only
+// with SL_MAX_LANES=8 (host/shade/shader.hpp, Shader::lanes_for, says why) and launches them accordingly.
+#if defined(SL_MAX_LANES) && SL_MAX_LANES < SL_VECTOR_WIDTH
+#define SL_FRAGS_PER_ITEM SL_MAX_LANES
+#else
 #define SL_FRAGS_PER_ITEM SL_VECTOR_WIDTH
+#endif
 #define SL_PRAGMA_(x) _Pragma(#x)
 #define SL_PRAGMA(x) SL_PRAGMA_(x)
 #if SL_FRAGS_PER_ITEM > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)

@@ -81,7 +81,12 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
                 for (const auto& name : models) mats.push_back(default_of(name));
                 const std::size_t before = rt.programs_built();
                 REQUIRE(shared.prepare_many(mats, *lights, p, dispatch) == models.size());
-                CHECK(rt.programs_built() == before + 1);   // one program for them all
+                // one program for them all, or two: the normals-only models' programs take fewer lanes
+                // (Shader::lanes_for), and a program's models share its lanes
+                std::size_t narrow = 0;
+                for (const Material& m : mats) narrow += find_model(m.model).normals_only ? 1 : 0;
+                const std::size_t programs = narrow > 0 && narrow < mats.size() ? 2 : 1;
+                CHECK(rt.programs_built() == before + programs);
                 for (const Material& m : mats) {
                     INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)"
                                   << (dispatch ? ", dispatching kernel" : ""));
@@ -90,8 +95,8 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
                     REQUIRE(a.size() == 3 * fb.size());
                     CHECK(same_bits(a, b));
                 }
-                // `own` built one program per model, `shared` none beyond its one
-                CHECK(rt.programs_built() == before + 1 + models.size());
+                // `own` built one program per model, `shared` none beyond its own
+                CHECK(rt.programs_built() == before + programs + models.size());
             }
 }
 
@@ -119,11 +124,12 @@ TEST_CASE("shade: the dispatching kernel over the whole catalogue gives each mod
 TEST_CASE("shade: models with tables or children and other lights keep their own programs", "[shade][shade_many]") {
     Runtime rt(RuntimeOptions{"", -1, "", "off"});
     Shader shader(rt);
-    std::vector<Material> mats{default_of("lambert"), default_of("phong"), default_of("lambert")};
+    // (two models of the same lanes, Shader::lanes_for: one shared program)
+    std::vector<Material> mats{default_of("blinn_phong"), default_of("phong"), default_of("blinn_phong")};
     for (const auto& info : model_catalogue())
         if (has_tables(info) || info.children > 0) mats.push_back(default_of(info.name));
     REQUIRE(mats.size() >= 4);   // the catalogue has a table model or a blend
-    CHECK(shader.prepare_many(mats, kOneDirectional, Precision::Precise) == 2);   // lambert once, phong
+    CHECK(shader.prepare_many(mats, kOneDirectional, Precision::Precise) == 2);   // blinn_phong once, phong
     CHECK(shader.prepare_many(mats, kOneDirectional, Precision::Precise) == 0);   // already prepared
     CHECK(rt.programs_built() == 1);
     const FragmentBuffer fb = random_fragments(300, 11);
@@ -155,8 +161,8 @@ TEST_CASE("shade: a shared program that does not build throws and leaves shade()
     fs::remove_all(dir);
 }
 
-// The fragment loop (kernels/shade_parts.cl, SL_VECTOR_WIDTH): a work-item shades the device's vector width of
-// fragments, launched as n / width work-items. Every model of the catalogue gives the pixels of one fragment a
+// The fragment loop (kernels/common.cl, SL_FRAGS_PER_ITEM): a work-item shades the device's vector width of
+// fragments (Shader::lanes_for), launched as n / width work-items. Every model of the catalogue gives the pixels of one fragment a
 // work-item (the form PoCL's own work-item loop vectorises), bit for bit, with a tail (1000 is not a multiple of
 // the work-group) and two lights; fast mode for the models whose fast build is other code (the pow models).
 TEST_CASE("shade: the fragment loop at the device's vector width gives one-fragment-a-work-item pixels, bit for bit",
@@ -189,11 +195,47 @@ TEST_CASE("shade: a work-group size that is not a multiple of the vector width i
           "[shade][vector_width]") {
     Runtime rt(RuntimeOptions{"", -1, "", "off", 16});
     Shader shader(rt);
-    ShadeSetup s = setup_of(default_of("lambert"), kOneDirectional, Precision::Precise);
+    ShadeSetup s = setup_of(default_of("phong"), kOneDirectional, Precision::Precise);
     s.local_size = 24;
     REQUIRE_THROWS_WITH(shader.shade(random_fragments(100, 3), s),
                         Catch::Contains("work-group size 24") && Catch::Contains("multiple of the 16 fragments"));
     s.local_size = 32;
     CHECK(shader.shade(random_fragments(100, 3), s).size() == 300);
+    // Lambert reads normals only: 8 fragments a work-item (Shader::lanes_for), so 24 is a whole number of them
+    ShadeSetup l = setup_of(default_of("lambert"), kOneDirectional, Precision::Precise);
+    l.local_size = 12;
+    CHECK_THROWS_WITH(shader.shade(random_fragments(100, 3), l), Catch::Contains("multiple of the 8 fragments"));
+    l.local_size = 24;
+    CHECK(shader.shade(random_fragments(100, 3), l).size() == 300);
     CHECK_THROWS_WITH(Runtime(RuntimeOptions{"", -1, "", "off", 3}), Catch::Contains("vector width 3"));
+}
+
+// ModelInfo::normals_only is what decides a model's lanes (Shader::lanes_for) and bench_models' bytes a fragment;
+// it must be true of the kernel: the same normals under another view and at other positions give the same pixels
+// (a directional light, whose direction does not depend on the position). And it must be the whole truth: every
+// model not marked depends on the view or the positions (minnaert_blender at darkness 0.5: its default, 1, is
+// Lambert).
+TEST_CASE("shade: the models marked normals-only are those whose pixels do not depend on the view or the positions",
+          "[shade][vector_width]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    Shader shader(rt);
+    const FragmentBuffer a = random_fragments(1000, 21);
+    FragmentBuffer b = random_fragments(1000, 22);   // other positions, a's normals
+    b.nx = a.nx;
+    b.ny = a.ny;
+    b.nz = a.nz;
+    std::size_t marked = 0;
+    for (const auto& info : model_catalogue()) {
+        INFO("model " << info.name << (info.normals_only ? " (marked normals-only)" : " (not marked)"));
+        Material m = default_of(info.name);
+        if (info.name == "minnaert_blender") m.params["darkness"] = 0.5;
+        ShadeSetup sa = setup_of(m, kOneDirectional, Precision::Precise), sb = sa;
+        sb.view = {-2.0, 1.0, 3.0, 1.0};
+        const bool same = same_bits(shader.shade(a, sa), shader.shade(b, sb));
+        CHECK(same == info.normals_only);
+        CHECK(Shader::lanes_for(info, 16) == (info.normals_only ? Shader::kNormalsOnlyLanes : 16));
+        CHECK(Shader::lanes_for(info, 4) == 4);
+        marked += info.normals_only ? 1 : 0;
+    }
+    CHECK(marked >= 8);   // Lambert, the wrap family, banded
 }

@@ -1,4 +1,5 @@
 // shadelab models / devices: what the catalogue holds and which OpenCL device runs it.
+#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "models/catalogue.hpp"
+#include "shade/shader.hpp"
 
 namespace shadelab::app {
 
@@ -128,7 +130,8 @@ void add_devices_command(CLI::App& app) {
         Runtime rt;
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
-                  << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH)\n"
+                  << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
+                  << std::min(rt.vector_width(), Shader::kNormalsOnlyLanes) << " for the models of N and L only\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
 }

@@ -31,6 +31,7 @@ ModelInfo banded_model() {
     ModelInfo m = base("banded", "banded Lambert: albedo * floor(max(0, NoL) steps + 1/2) / steps",
                        "seed 001 (banded lighting), with _LightSteps read as the band count its author meant",
                        "banded_eval");
+    m.normals_only = true;
     m.params = {{"steps", 4.0, 1.0, 256.0,
                  "number of lit bands: NoL is rounded to multiples of 1/steps (levels 0, 1/steps, ..., 1)", true}};
     m.pack = packer<BandedConsts>([](const std::vector<double>& p) {
@@ -50,6 +51,7 @@ ModelInfo banded_seed001_model() {
                        "seed 001's banding as written: floor((NoL 256 + t/2) / t) t/256 (t = _LightSteps, a step in 1/256)",
                        "seed 001 (banded lighting) literally; the intended model is banded (t = 256 / steps)",
                        "banded_seed001_eval");
+    m.normals_only = true;
     m.params = {{"light_steps", 64.0, 1.0, 256.0,
                  "seed 001's _LightSteps: the band step in units of 1/256 (64 gives 4 lit bands)", true}};
     m.pack = packer<BandedSeed001Consts>([](const std::vector<double>& p) {

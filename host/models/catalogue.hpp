@@ -98,6 +98,10 @@ struct ModelInfo {
     PackFn pack;           // its constants (none: the model reads only albedo and specular)
     bool reciprocal = false;         // f_r(L, V) == f_r(V, L) (value / NoL symmetric) at EVERY parameter value in range
     bool energy_conserving = false;  // directional albedo <= 1 for albedo 1, at every parameter value in range
+    // Its value depends on N and L alone (its eval reads neither V nor P): the kernel needs 24 bytes a fragment,
+    // its arithmetic is a few operations, and it runs at memory speed. Such models are shaded at no more than
+    // kNormalsOnlyLanes fragments a work-item (host/shade/shader.hpp, lanes_for); bench_models counts their bytes.
+    bool normals_only = false;
     std::vector<PrecisionBound> precision;   // kernel vs reference, both modes (see PrecisionBound)
     std::string doc;       // its documentation page from the repository root (set from its family's)
 };

@@ -15,6 +15,7 @@ ModelFamily register_lambert_family() {
     m.eval = "lambert_eval";
     m.reciprocal = true;
     m.energy_conserving = true;
+    m.normals_only = true;
     // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
     m.precision = {{"*", 7.33e-7, 2e-6, 7.33e-7, 2e-6}};
     out.push_back(m);

@@ -12,6 +12,7 @@ ModelInfo base(const char* name, const char* summary, const char* source, const 
     ModelInfo m = model_info("models/wrap.cl", name, summary, source, eval);
     // None of the wrap terms is reciprocal: value / NoL = g(NoL) / NoL is not symmetric in L and V.
     m.reciprocal = false;
+    m.normals_only = true;   // every wrap term is a function of NoL alone
     return m;
 }
 

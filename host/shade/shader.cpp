@@ -154,12 +154,15 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
         if (many_.count(key) || !seen.insert(key).second) continue;
         todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
     }
+    // A program's models share its fragments a work-item (SL_MAX_LANES): the normals-only models go together.
+    std::stable_partition(todo.begin(), todo.end(), [](const Todo& t) { return t.info->normals_only; });
     std::map<std::string, SharedKernel> added;
     for (std::size_t b = 0; b < todo.size();) {   // programs of up to kManyModels models and kManyHeaders files
         std::vector<const ModelInfo*> models;
         std::set<std::string> headers;
         std::size_t e = b;
         for (; e < todo.size() && models.size() < kManyModels; ++e) {
+            if (todo[e].info->normals_only != todo[b].info->normals_only) break;
             headers.insert(todo[e].info->header);
             if (headers.size() > kManyHeaders) break;
             models.push_back(todo[e].info);
@@ -224,7 +227,13 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
     // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
     if (all_lights_directional(lights)) defines.push_back("SL_ALL_DIRECTIONAL=1");
+    if (find_model(mat.model).normals_only)   // Shader::lanes_for
+        defines.push_back("SL_MAX_LANES=" + std::to_string(Shader::kNormalsOnlyLanes));
     return {"shade.cl", defines, Shader::options_for(precision)};
+}
+
+std::size_t Shader::lanes_for(const ModelInfo& model, std::size_t device_width) {
+    return model.normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
 }
 
 namespace {
@@ -257,7 +266,7 @@ LaunchBuffers tail_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_
 }
 
 // Enqueues one launch over `count` fragments (a multiple of the work-group's `local` fragments unless `local`
-// is kLocalAuto), `per_item` of them a work-item (the program's SL_VECTOR_WIDTH: kernels/shade_parts.cl).
+// is kLocalAuto), `per_item` of them a work-item (the program's SL_FRAGS_PER_ITEM: kernels/common.cl).
 cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers& b, std::size_t count,
                          std::size_t local, std::size_t per_item) {
     for (cl_uint c = 0; c < 6; ++c) k.setArg(c, b.in[c]);
@@ -304,7 +313,8 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     using clock = std::chrono::steady_clock;
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
-    const std::size_t per_item = rt_.vector_width();   // fragments a work-item: every program's SL_VECTOR_WIDTH
+    // fragments a work-item: the program's SL_FRAGS_PER_ITEM (kernels/common.cl)
+    const std::size_t per_item = lanes_for(find_model(mat.model), rt_.vector_width());
     if (group % per_item != 0)
         throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
                     std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
