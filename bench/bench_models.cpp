@@ -9,10 +9,12 @@
 //            (bench/cpp_loops.hpp; a representative of every family). The loop's output is checked against the
 //            kernel's (max relative difference printed), so a wrong loop shows.
 //   x ref    against the scalar double reference (host/reference/), single-threaded, on a subset.
-//   vec      whether PoCL's work-item loop vectoriser widened the kernel, and to what width: read from the
+//   vec      whether the kernel was widened, and to what width (its fragment loop, kernels/common.cl, or with
+//            one fragment a work-item PoCL's work-item loop vectoriser): read from the
 //            LLVM remarks PoCL prints with POCL_VECTORIZER_REMARKS=1 while it compiles the kernel (the kernel
 //            cache is switched off for that, POCL_KERNEL_CACHE=0, so every program is really compiled; --no-vec
-//            skips it). "8" = vectorised 8 wide; "no: <reason>" = LLVM's reason for running one fragment at a time.
+//            skips it). "16" = vectorised 16 wide (8 for the models of N and L only, Shader::lanes_for, and on
+//            AVX2 hosts); "no: <reason>" = LLVM's reason for running one fragment at a time.
 // Targets (figures, never assertions; issue #13): cheap models (lambert, half_lambert, banded, toon) >= 0.8 of
 // STREAM; every model >= 0.25 of STREAM at 16M fragments; models that call transcendental functions, in
 // precise mode, >= 5x the C++ loop; fast mode >= 1.3x precise where the two modes are different programs and
@@ -216,9 +218,10 @@ std::string capture_output(F&& f) {
     return text;
 }
 
-// The loop vectoriser's verdict from PoCL's remarks for one kernel compilation: "16" when every loop it reports
-// on (the fragment loop, or PoCL's work-item loop) was vectorised 16 wide; "no: <first reason>" when none was;
-// "8/no: <reason>" when some were ("?" if it printed no remark on a loop, e.g. the kernel came from a cache).
+// The loop vectoriser's verdict from PoCL's remarks for one kernel compilation whose fragment loop has `lanes`
+// lanes (Shader::lanes_for): "16" when the fragment loop, or with one lane PoCL's work-item loop, was vectorised
+// 16 wide; "no: <first reason>" when no loop was; "8/no: <reason>" when some were ("?" if it printed no remark
+// on a loop, e.g. the kernel came from a cache).
 std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes) {
     std::set<std::string> widths;
     std::string reason;
