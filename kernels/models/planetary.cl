@@ -299,16 +299,19 @@ SL_INLINE float Hapke_value(sl_pho g, float P, const HapkeConsts* k) {
 
 // ---- Hapke's 2002/2012 refinements (the variant hapke_2012) ----------------------------------------------------
 
-// ln x for finite x > 0: x = 2^k m, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) = 2 (s + s^3/3 + ... + s^9/9),
-// s = (m - 1)/(m + 1), |s| <= 0.1716 (first omitted term s^11/11 < 2e-9 of the sum; Abramowitz & Stegun 4.1.27).
+// ln(n / d) for normal floats n, d > 0, with one division: n = 2^a m_n and d = 2^b m_d with m_n, m_d in [1, 2);
+// m_n halved (a + 1) or doubled (a - 1) so that r = m_n / m_d is in [sqrt(1/2), sqrt(2)); then ln(n / d) =
+// (a - b) ln 2 + 2 atanh(s), s = (r - 1)/(r + 1) = (m_n - m_d)/(m_n + m_d) (the difference exact: Sterbenz),
+// |s| <= 0.1716, 2 atanh(s) = 2 (s + s^3/3 + ... + s^9/9) (first omitted term s^11/11 < 2e-9 of the sum;
+// Abramowitz & Stegun 4.1.27). Forming n / d first and then its logarithm took two divisions.
 // This file's own, branch-free (PoCL's log is a call the vectoriser cannot widen).
-SL_INLINE float Pho_log(float x) {
-    const int bits = as_int(x);
-    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
-    const int big = m0 > 1.41421356f;
-    const float m = big ? 0.5f * m0 : m0;
-    const float k = (float)((bits >> 23) - 127 + big);
-    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
+SL_INLINE float Pho_log_ratio(float n, float d) {
+    const int nb = as_int(n), db = as_int(d);
+    const float mn0 = as_float((nb & 0x007fffff) | 0x3f800000), md = as_float((db & 0x007fffff) | 0x3f800000);
+    const int up = mn0 > 1.41421356f * md, down = 1.41421356f * mn0 < md;
+    const float mn = up ? 0.5f * mn0 : (down ? 2.0f * mn0 : mn0);
+    const float k = (float)(((nb >> 23) - (db >> 23)) + up - down);
+    const float s = (mn - md) / (mn + md), s2 = s * s;
     const float p = 1.0f + s2 * (1.0f / 3.0f + s2 * (0.2f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f))));
     return k * 0.693147180559945309f + 2.0f * s * p;
 }
@@ -318,7 +321,7 @@ SL_INLINE float Pho_log(float x) {
 // Hapke_H2002_den is the denominator 1 / H(x) (in (0, 1] for w in [0, 1]; the smooth law divides once by the
 // product of two). x ln((1 + x)/x) -> 0 as x -> 0 (H(0) = 1); below x = 1e-30 the term is taken as 0 (its limit).
 SL_INLINE float Hapke_H2002_den(float x, float w, float r0) {
-    const float xl = x > 1.0e-30f ? x * Pho_log((1.0f + x) / fmax(x, 1.0e-30f)) : 0.0f;
+    const float xl = x > 1.0e-30f ? x * Pho_log_ratio(1.0f + x, fmax(x, 1.0e-30f)) : 0.0f;
     return 1.0f - w * (x * r0 + 0.5f * (1.0f - 2.0f * r0 * x) * xl);
 }
 
