@@ -15,7 +15,8 @@ What is checked:
 - a transcript (`$ command` followed by the output the page shows, up to the next `$` line or the block's end)
   is checked loosely: every shown output line must be printed by the run (stdout or stderr, any order), with
   the same words and every number within 2% (or 1e-6 absolute). Lines that report timings or the machine
-  (ms, took, faster, speed-up, device, Mfrag, per second) are not compared, nor elisions (`[...]`).
+  (ms, took, faster, speed-up, device, Mfrag, per second) are not compared, nor elisions (`[...]`), nor what
+  the planner chose by timing (its "chosen:" line names a speed-up; the "mesh N renders with" lines under it).
   A block preceded by `<!-- doc-check: words -->` compares words only (numbers free) and ignores the `*` / `x`
   marks at the start of a row, for output whose numbers are timings.
 
@@ -34,7 +35,8 @@ import time
 FENCE = re.compile(r"^(\s*)```(\S*)\s*$")
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 TOKEN = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[^\s\d.,;:()\[\]=+\-]+|[=+\-]")
-TIMING = re.compile(r"\d\s*ms\b|\bms\b|took|faster|speed-up|\bdevice\b|Mfrag|per second|/s\b|build \d")
+TIMING = re.compile(r"\d\s*ms\b|\bms\b|took|faster|speed-up|\bdevice\b|Mfrag|per second|/s\b|build \d"
+                    r"|^mesh \d+ renders with ")
 PLACEHOLDER = re.compile(r"(?<![\w/.=-])[A-Z][A-Z0-9_]+(?![\w/.])")
 SKIPPED_LANGS = {"python", "cpp", "c++", "json", "cmake", "ini", "pvl"}
 RTOL, ATOL = 0.02, 1e-6
