@@ -234,11 +234,9 @@ std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes) {
     // A kernel whose fragment loop (kernels/common.cl, SL_FRAGS_PER_ITEM = `lanes` > 1) was widened to its lanes
     // is vectorised: the work-item loop around it, whose body is then vector code, is reported as not vectorised
     // ("instruction return type cannot be vectorized", "already vectorized"), which is no refusal.
-    if (lanes > 1 && widths.count(std::to_string(lanes))) {
-        std::string w;
-        for (const auto& x : widths) w += (w.empty() ? "" : ",") + x;
-        return w;
-    }
+    std::string w;
+    for (const auto& x : widths) w += (w.empty() ? "" : ",") + x;
+    if (lanes > 1 && widths.count(std::to_string(lanes))) return w;
     const std::string already = "vectorization and interleaving are explicitly disabled, or the loop has already";
     std::size_t p = remarks.find(novec);
     while (p != std::string::npos && remarks.compare(p + novec.size(), already.size(), already) == 0)
@@ -251,8 +249,6 @@ std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes) {
     // The loop vectoriser's other refusal, its cost model's (seen on AVX2 hosts, pthread-haswell, for loads
     // it would have to gather): it names no "loop not vectorized" reason.
     if (reason.empty() && remarks.find(refused) != std::string::npos) reason = refused;
-    std::string w;
-    for (const auto& x : widths) w += (w.empty() ? "" : ",") + x;
     if (w.empty() && reason.empty()) return "?";
     if (reason.empty()) return w;
     return (w.empty() ? "" : w + "/") + "no: " + reason;
@@ -542,7 +538,7 @@ int main(int argc, char** argv) {
                     const std::string key = info.name + "/" + precision_name(opt.modes[k]);
                     if (opt.vec_report && !vec_of.count(key)) {
                         const std::string remarks = capture_output([&] { outs[k] = shader.shade(fb, setups[k]); });
-                        vec_of[key] = vectoriser_verdict(remarks, Shader::lanes_for(info, rt.vector_width()));
+                        vec_of[key] = vectoriser_verdict(remarks, Shader::lanes_for(info.normals_only, rt.vector_width()));
                     } else {
                         outs[k] = shader.shade(fb, setups[k]);
                     }

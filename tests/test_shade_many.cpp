@@ -233,8 +233,8 @@ TEST_CASE("shade: the models marked normals-only are those whose pixels do not d
         sb.view = {-2.0, 1.0, 3.0, 1.0};
         const bool same = same_bits(shader.shade(a, sa), shader.shade(b, sb));
         CHECK(same == info.normals_only);
-        CHECK(Shader::lanes_for(info, 16) == (info.normals_only ? Shader::kNormalsOnlyLanes : 16));
-        CHECK(Shader::lanes_for(info, 4) == 4);
+        CHECK(Shader::lanes_for(info.normals_only, 16) == (info.normals_only ? Shader::kNormalsOnlyLanes : 16));
+        CHECK(Shader::lanes_for(info.normals_only, 4) == 4);
         marked += info.normals_only ? 1 : 0;
     }
     CHECK(marked >= 8);   // Lambert, the wrap family, banded

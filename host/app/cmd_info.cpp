@@ -1,5 +1,4 @@
 // shadelab models / devices: what the catalogue holds and which OpenCL device runs it.
-#include <algorithm>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -131,7 +130,7 @@ void add_devices_command(CLI::App& app) {
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
-                  << std::min(rt.vector_width(), Shader::kNormalsOnlyLanes) << " for the models of N and L only\n"
+                  << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
 }

@@ -232,8 +232,8 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     return {"shade.cl", defines, Shader::options_for(precision)};
 }
 
-std::size_t Shader::lanes_for(const ModelInfo& model, std::size_t device_width) {
-    return model.normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
+std::size_t Shader::lanes_for(bool normals_only, std::size_t device_width) {
+    return normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
 }
 
 namespace {
@@ -314,7 +314,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
     // fragments a work-item: the program's SL_FRAGS_PER_ITEM (kernels/common.cl)
-    const std::size_t per_item = lanes_for(find_model(mat.model), rt_.vector_width());
+    const std::size_t per_item = lanes_for(find_model(mat.model).normals_only, rt_.vector_width());
     if (group % per_item != 0)
         throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
                     std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
