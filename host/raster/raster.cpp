@@ -13,8 +13,9 @@
 //                       the tile's depth and owner buffers in cache;
 //   emit_rows/emit_run  perspective-correct interpolation once per covered pixel, for the triangle that won
 //                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time in
-//                       blocks of kLanes pixels, each one vector loop (emit_lanes) copied out whole
-//                       (emit_pixel, the one-pixel path, takes the rare fallbacks).
+//                       blocks of kLanes pixels, each block one AVX computation stored straight into the
+//                       fragment arrays (emit_block_avx; without AVX a vectorised loop, emit_lanes); emit_pixel,
+//                       the one-pixel path, takes the rare fallbacks.
 // Threads: vertices and triangles are split into contiguous ranges for set-up and binning; threads take
 // tiles, then bands of rows for emission, from a shared counter. Every per-pixel result is computed
 // the same way whatever the split, so the output is bit-identical for any thread count.
@@ -721,6 +722,12 @@ Resolve resolve_of(const Corners& k, std::int32_t id) {
     return r;
 }
 
+// The fragment arrays' first elements, taken once per frame.
+struct FragmentArrays {
+    float *px, *py, *pz, *nx, *ny, *nz, *depth, *b1, *b2;
+    std::int32_t *pixel, *triangle;
+};
+
 struct EmitContext {
     const Mesh* mesh;
     const ScreenVertex* vertices;
@@ -732,6 +739,7 @@ struct EmitContext {
     glm::dvec3 eye, forward;
     bool flip;
     int width, height;
+    FragmentArrays out;
 };
 
 // The set-up chunk holding triangle `id`.
@@ -832,6 +840,90 @@ void emit_pixel(const EmitContext& c, const Resolve& r, int x, int y, std::size_
     fb.b2[at] = float(v.b.z);
 }
 
+// Pixels of one emission block: a fixed count, so that a block is whole vectors without a scalar tail.
+constexpr int kLanes = 4;
+
+#ifdef __AVX__
+// A block of pixels in AVX, one 256-bit vector of 4 doubles per step (GCC 12 compiled the portable lane loop
+// below to pairs of 128-bit vectors: two vdivpd and two vsqrtpd per block; preferring 256 bits left it scalar).
+// The same operations in the same order as emit_pixel, lane for lane (IEEE division, square root and double ->
+// float conversion are correctly rounded in vector and scalar alike; no fused multiply-adds: the host is built
+// with -ffp-contract=off), so every value is emit_pixel's own, and the portable build's emit_lanes'.
+static_assert(kLanes == 4, "one AVX vector of doubles per block");
+inline __m256d affine_at(const Affine& a, __m256d X, __m256d Y) {
+    return _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(a.c), _mm256_mul_pd(_mm256_set1_pd(a.cx), X)),
+                         _mm256_mul_pd(_mm256_set1_pd(a.cy), Y));
+}
+inline __m256d finite_v(__m256d v) {   // finite_d: |v| <= max (false for NaN)
+    const __m256d abs = _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+    return _mm256_cmp_pd(abs, _mm256_set1_pd(std::numeric_limits<double>::max()), _CMP_LE_OQ);
+}
+inline __m256d sign_of(__m256d negative) {   // -1 where the mask is set, else 1
+    return _mm256_blendv_pd(_mm256_set1_pd(1.0), _mm256_set1_pd(-1.0), negative);
+}
+inline void store_f(float* to, __m256d v) { _mm_storeu_ps(to, _mm256_cvtpd_ps(v)); }
+
+// Pixels xs .. xs + 3 of row y (Y = y + 0.5 - r.y0), won by the triangle of `r`, stored straight into slots
+// `slot` .. of the fragment arrays: all four lanes when `whole` (lanes past the run write slots that later runs
+// of the band overwrite), else the first `count` (masked stores). Reads the triangle's numerators from its
+// Resolve and the frame's constants from `c` (broadcast loads), so a run costs no copy of either. Returns bit
+// i set where lane i needs emit_pixel's fallbacks.
+int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::int32_t row, int xs, std::size_t slot,
+                   bool whole, int count) {
+    const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
+    const __m256d X = _mm256_sub_pd(_mm256_add_pd(_mm256_setr_pd(xs, xs + 1, xs + 2, xs + 3), _mm256_set1_pd(0.5)),
+                                    _mm256_set1_pd(r.x0));
+    const __m256d Y = _mm256_set1_pd(Y_off);
+    const __m256d ex = _mm256_set1_pd(c.eye.x), ey = _mm256_set1_pd(c.eye.y), ez = _mm256_set1_pd(c.eye.z);
+    const __m256d s = affine_at(r.q, X, Y);
+    const __m256d inv = _mm256_div_pd(one, s);
+    const __m256d Px = _mm256_mul_pd(affine_at(r.P[0], X, Y), inv), Py = _mm256_mul_pd(affine_at(r.P[1], X, Y), inv),
+                  Pz = _mm256_mul_pd(affine_at(r.P[2], X, Y), inv);
+    const __m256d sign = sign_of(_mm256_cmp_pd(s, zero, _CMP_LT_OQ));
+    __m256d Nx = _mm256_mul_pd(affine_at(r.N[0], X, Y), sign), Ny = _mm256_mul_pd(affine_at(r.N[1], X, Y), sign),
+            Nz = _mm256_mul_pd(affine_at(r.N[2], X, Y), sign);
+    const __m256d len = _mm256_sqrt_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, Nx), _mm256_mul_pd(Ny, Ny)), _mm256_mul_pd(Nz, Nz)));
+    const __m256d k = _mm256_div_pd(one, len);
+    Nx = _mm256_mul_pd(Nx, k);
+    Ny = _mm256_mul_pd(Ny, k);
+    Nz = _mm256_mul_pd(Nz, k);
+    const __m256d facing = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, _mm256_sub_pd(ex, Px)),
+                                                       _mm256_mul_pd(Ny, _mm256_sub_pd(ey, Py))),
+                                         _mm256_mul_pd(Nz, _mm256_sub_pd(ez, Pz)));
+    const __m256d back = _mm256_cmp_pd(facing, zero, _CMP_LT_OQ);
+    const __m256d turn = sign_of(c.flip ? back : zero);
+    Nx = _mm256_mul_pd(Nx, turn);
+    Ny = _mm256_mul_pd(Ny, turn);
+    Nz = _mm256_mul_pd(Nz, turn);
+    const __m256d ok = _mm256_and_pd(_mm256_and_pd(finite_v(inv), _mm256_cmp_pd(len, zero, _CMP_GT_OQ)), finite_v(len));
+    const __m256d depth = _mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(Px, ex), _mm256_set1_pd(c.forward.x)),
+                      _mm256_mul_pd(_mm256_sub_pd(Py, ey), _mm256_set1_pd(c.forward.y))),
+        _mm256_mul_pd(_mm256_sub_pd(Pz, ez), _mm256_set1_pd(c.forward.z)));
+    const __m128 values[9] = {_mm256_cvtpd_ps(Px), _mm256_cvtpd_ps(Py), _mm256_cvtpd_ps(Pz),
+                              _mm256_cvtpd_ps(Nx), _mm256_cvtpd_ps(Ny), _mm256_cvtpd_ps(Nz),
+                              _mm256_cvtpd_ps(depth), _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b1, X, Y), inv)),
+                              _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b2, X, Y), inv))};
+    const FragmentArrays& a = c.out;
+    float* const to[9] = {a.px, a.py, a.pz, a.nx, a.ny, a.nz, a.depth, a.b1, a.b2};
+    const __m128i pixel = _mm_add_epi32(_mm_set1_epi32(row + xs), _mm_setr_epi32(0, 1, 2, 3));
+    const __m128i tri = _mm_set1_epi32(r.mesh_triangle);
+    if (whole) {
+        for (int i = 0; i < 9; ++i) _mm_storeu_ps(to[i] + slot, values[i]);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(a.pixel + slot), pixel);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(a.triangle + slot), tri);
+    } else {
+        const __m128i mask = _mm_cmpgt_epi32(_mm_set1_epi32(count), _mm_setr_epi32(0, 1, 2, 3));
+        for (int i = 0; i < 9; ++i) _mm_maskstore_ps(to[i] + slot, mask, values[i]);
+        _mm_maskstore_ps(reinterpret_cast<float*>(a.pixel + slot), mask, _mm_castsi128_ps(pixel));
+        _mm_maskstore_ps(reinterpret_cast<float*>(a.triangle + slot), mask, _mm_castsi128_ps(tri));
+    }
+    return ~_mm256_movemask_pd(ok) & 0xF;
+}
+#else
+// The portable build (no AVX): the block as a loop the compiler vectorises.
+
 inline bool finite_d(double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); }
 
 // One run's view for emit_lanes: the output arrays from the run's first slot, the triangle's affine numerators
@@ -852,9 +944,6 @@ RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at, 
                    r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
                    c.forward.z, c.flip, r.mesh_triangle, std::int32_t(std::size_t(y) * std::size_t(c.width))};
 }
-
-// Lanes of one block: a fixed count, so that the lane loop compiles to whole vectors without a scalar tail.
-constexpr int kLanes = 4;
 
 // One block's fragments, computed in the calling thread's own arrays (which alias nothing, so the lane loop
 // vectorises without run-time overlap checks) and then copied to the fragment buffer whole.
@@ -908,77 +997,6 @@ LaneBlock emit_lanes(const RunView& v, int xs) {
     return b;
 }
 
-#ifdef __AVX__
-// emit_lanes<kLanes> written out in AVX: GCC compiled that loop to pairs of 128-bit vectors (two vdivpd, two
-// vsqrtpd per block; preferring 256 bits left it scalar), so the block takes one 256-bit vector per step here.
-// The same operations in the same order, lane for lane (IEEE division, square root and double -> float
-// conversion are correctly rounded in vector and scalar alike), so every value is emit_lanes' own.
-static_assert(kLanes == 4, "one AVX vector of doubles per block");
-inline __m256d affine_at(const Affine& a, __m256d X, __m256d Y) {
-    return _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(a.c), _mm256_mul_pd(_mm256_set1_pd(a.cx), X)),
-                         _mm256_mul_pd(_mm256_set1_pd(a.cy), Y));
-}
-inline __m256d finite_v(__m256d v) {   // finite_d: |v| <= max (false for NaN)
-    const __m256d abs = _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
-    return _mm256_cmp_pd(abs, _mm256_set1_pd(std::numeric_limits<double>::max()), _CMP_LE_OQ);
-}
-inline __m256d sign_of(__m256d negative) {   // -1 where the mask is set, else 1
-    return _mm256_blendv_pd(_mm256_set1_pd(1.0), _mm256_set1_pd(-1.0), negative);
-}
-inline void store_f(float* to, __m256d v) { _mm_storeu_ps(to, _mm256_cvtpd_ps(v)); }
-
-LaneBlock emit_lanes_avx(const RunView& v, int xs) {
-    const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd();
-    const __m256d X = _mm256_sub_pd(_mm256_add_pd(_mm256_setr_pd(xs, xs + 1, xs + 2, xs + 3), _mm256_set1_pd(0.5)),
-                                    _mm256_set1_pd(v.x0));
-    const __m256d Y = _mm256_set1_pd(v.Y);
-    const __m256d ex = _mm256_set1_pd(v.ex), ey = _mm256_set1_pd(v.ey), ez = _mm256_set1_pd(v.ez);
-    const __m256d s = affine_at(v.q, X, Y);
-    const __m256d inv = _mm256_div_pd(one, s);
-    const __m256d Px = _mm256_mul_pd(affine_at(v.P0, X, Y), inv), Py = _mm256_mul_pd(affine_at(v.P1, X, Y), inv),
-                  Pz = _mm256_mul_pd(affine_at(v.P2, X, Y), inv);
-    const __m256d sign = sign_of(_mm256_cmp_pd(s, zero, _CMP_LT_OQ));
-    __m256d Nx = _mm256_mul_pd(affine_at(v.N0, X, Y), sign), Ny = _mm256_mul_pd(affine_at(v.N1, X, Y), sign),
-            Nz = _mm256_mul_pd(affine_at(v.N2, X, Y), sign);
-    const __m256d len = _mm256_sqrt_pd(
-        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, Nx), _mm256_mul_pd(Ny, Ny)), _mm256_mul_pd(Nz, Nz)));
-    const __m256d k = _mm256_div_pd(one, len);
-    Nx = _mm256_mul_pd(Nx, k);
-    Ny = _mm256_mul_pd(Ny, k);
-    Nz = _mm256_mul_pd(Nz, k);
-    const __m256d facing = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, _mm256_sub_pd(ex, Px)),
-                                                       _mm256_mul_pd(Ny, _mm256_sub_pd(ey, Py))),
-                                         _mm256_mul_pd(Nz, _mm256_sub_pd(ez, Pz)));
-    const __m256d back = _mm256_cmp_pd(facing, zero, _CMP_LT_OQ);
-    const __m256d turn = sign_of(v.flip ? back : zero);
-    Nx = _mm256_mul_pd(Nx, turn);
-    Ny = _mm256_mul_pd(Ny, turn);
-    Nz = _mm256_mul_pd(Nz, turn);
-    const __m256d ok = _mm256_and_pd(_mm256_and_pd(finite_v(inv), _mm256_cmp_pd(len, zero, _CMP_GT_OQ)), finite_v(len));
-    const int good = _mm256_movemask_pd(ok);
-    LaneBlock b;
-    for (int i = 0; i < kLanes; ++i) {
-        b.fix[i] = std::int32_t(((good >> i) & 1) == 0);
-        b.pixel[i] = v.row + xs + i;
-        b.triangle[i] = v.tri;
-    }
-    store_f(b.px, Px);
-    store_f(b.py, Py);
-    store_f(b.pz, Pz);
-    store_f(b.nx, Nx);
-    store_f(b.ny, Ny);
-    store_f(b.nz, Nz);
-    const __m256d depth = _mm256_add_pd(
-        _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(Px, ex), _mm256_set1_pd(v.fx)),
-                      _mm256_mul_pd(_mm256_sub_pd(Py, ey), _mm256_set1_pd(v.fy))),
-        _mm256_mul_pd(_mm256_sub_pd(Pz, ez), _mm256_set1_pd(v.fz)));
-    store_f(b.depth, depth);
-    store_f(b.b1, _mm256_mul_pd(affine_at(v.B1, X, Y), inv));
-    store_f(b.b2, _mm256_mul_pd(affine_at(v.B2, X, Y), inv));
-    return b;
-}
-#endif
-
 // The first m lanes of `b` into slots o .. o + m of the run's arrays: M > 0 stores the constant count M (a copy
 // of constant size: one vector or scalar store per array), M == 0 the count n.
 template <int M>
@@ -998,6 +1016,8 @@ void store_lanes(const LaneBlock& b, int n, int o, const RunView& v) {
     std::memcpy(v.triangle + o, b.triangle, i);
 }
 
+#endif
+
 // Writes the fragments of pixels [xa, xb) of row y, all won by the triangle of `r`, from index `at` on, in
 // blocks of kLanes pixels. A block may run past xb: its extra lanes write slots [at + xb - xa, ...) that the
 // next runs of the same band overwrite, so only slots before `room` (the end of the band's own slice of the
@@ -1009,14 +1029,23 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
         for (int x = xa; x < xb; ++x) emit_pixel(c, r, x, y, at + std::size_t(x - xa), fb);
         return;
     }
+#ifdef __AVX__
+    const double Y = double(y) + 0.5 - r.y0;
+    const std::int32_t row = std::int32_t(std::size_t(y) * std::size_t(c.width));
+    for (int b0 = xa; b0 < xb; b0 += kLanes) {
+        const int n = std::min(kLanes, xb - b0);
+        const std::size_t slot = at + std::size_t(b0 - xa);
+        int fix = emit_block_avx(c, r, Y, row, b0, slot, slot + kLanes <= room, n) & ((1 << n) - 1);
+        for (; fix != 0; fix &= fix - 1) {
+            const int i = __builtin_ctz(unsigned(fix));
+            emit_pixel(c, r, b0 + i, y, slot + std::size_t(i), fb);
+        }
+    }
+#else
     const RunView v = run_view(c, r, y, at, fb);
     for (int b0 = xa; b0 < xb; b0 += kLanes) {
         const int n = std::min(kLanes, xb - b0), o = b0 - xa;
-#ifdef __AVX__
-        const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes_avx(v, b0);
-#else
         const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes<kLanes>(v, b0);
-#endif
         if (n == 1)
             store_lanes<1>(lanes, n, o, v);
         else if (at + std::size_t(o + kLanes) <= room)
@@ -1026,6 +1055,7 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
         for (int i = 0; i < n; ++i)
             if (lanes.fix[i]) emit_pixel(c, r, b0 + i, y, at + std::size_t(o + i), fb);
     }
+#endif
 }
 
 constexpr int kEmitAhead = 16;   // pixels between a prefetch of a triangle's set-up record and its run
@@ -1249,7 +1279,9 @@ void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, co
     size_fragments(fb, at.back(), threads);
     const EmitContext ctx{&mesh, s.sv, &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
-                          g.height};
+                          g.height, FragmentArrays{fb.px.data(), fb.py.data(), fb.pz.data(), fb.nx.data(), fb.ny.data(),
+                                                   fb.nz.data(), fb.depth.data(), fb.b1.data(), fb.b2.data(),
+                                                   fb.pixel.data(), fb.triangle.data()}};
     const int bands = band_count(g), rows = band_rows(g);
     std::atomic<int> next_band{0};
     run_parallel(threads, [&](int) {
