@@ -120,8 +120,8 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // 512-bit registers carry twice the work through the same chain (docs/speed.md, "Sixteen lanes"). The
 // dispatching kernel (SL_DISPATCH) cannot be vectorised at all (its switch): the same loop, no request.
 // clang may not widen the loop when it first optimises the program (clBuildProgram); it is widened later, in
-// PoCL's work-group compilation (bench_models prints the width), so the kernels silence clang's "loop not
-// vectorized" warning of the first stage (-Wpass-failed), which would be noise on the user's stderr.
+// PoCL's work-group compilation (bench_models prints the width), so clang's "loop not vectorized" warning of
+// the first stage (-Wpass-failed), which would be noise on the user's stderr, is silenced below.
 #ifndef SL_VECTOR_WIDTH
 #define SL_VECTOR_WIDTH 1
 #endif
@@ -139,6 +139,8 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 #else
 #define SL_FRAGMENT_LOOP
 #endif
+// Silenced once here for every kernel after common.cl in the program (see above for why).
+#pragma clang diagnostic ignored "-Wpass-failed"
 
 // ---- trigonometry: own, vectorisable ----------------------------------------------------------------------
 // PoCL 3.1's sin, cos, tan, asin, acos, atan and atan2 are library calls that its work-item loop vectoriser

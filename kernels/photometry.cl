@@ -48,9 +48,7 @@ SL_INLINE float pho_row(size_t i, __global const float* restrict mu0, __global c
     return pho_finite_or_zero(v);
 }
 
-// Every row: SL_FRAGS_PER_ITEM rows a work-item (common.cl's SL_FRAGMENT_LOOP; -Wpass-failed: see there).
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
+// Every row: SL_FRAGS_PER_ITEM rows a work-item (common.cl's SL_FRAGMENT_LOOP).
 __kernel void eval_photometric(__global const float* restrict mu0, __global const float* restrict mu,
                                __global const float* restrict sin_i, __global const float* restrict sin_e,
                                __global const float* restrict cos_g, __global const float* restrict tan_half_g,
@@ -65,7 +63,6 @@ __kernel void eval_photometric(__global const float* restrict mu0, __global cons
     for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k)
         out[first + k] = pho_row(first + k, mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, mc);
 }
-#pragma clang diagnostic pop
 
 // ISIS's empirical laws with the phase-dependent parameter and brightness already interpolated per row (the host
 // evaluates ISIS's spline of K(g) or L(g) and of B(g) in double):
@@ -85,8 +82,6 @@ __kernel void eval_empirical(__global const float* restrict mu0, __global const 
 // w SL_FRAGS_PER_ITEM .. (w + 1) SL_FRAGS_PER_ITEM - 1 with the constants sets[s], row i into out[s * stride + i].
 // The rows are uploaded once per fit; each launch carries the current parameters, their finite-difference
 // neighbours and the trial steps. No bounds check (the host pads).
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
 __kernel void eval_photometric_sets(__global const float* restrict mu0, __global const float* restrict mu,
                                     __global const float* restrict sin_i, __global const float* restrict sin_e,
                                     __global const float* restrict cos_g, __global const float* restrict tan_half_g,
@@ -99,4 +94,3 @@ __kernel void eval_photometric_sets(__global const float* restrict mu0, __global
         out[s * (size_t)stride + first + k] =
             pho_row(first + k, mu0, mu, sin_i, sin_e, cos_g, tan_half_g, tan_half_psi, mc);
 }
-#pragma clang diagnostic pop

@@ -5,9 +5,6 @@
 #ifndef SL_SHADE_EXTRA_ARGS
 #define SL_SHADE_EXTRA_ARGS
 #endif
-// -Wpass-failed: see common.cl's SL_FRAGMENT_LOOP.
-#pragma clang diagnostic push
-#pragma clang diagnostic ignored "-Wpass-failed"
 // One fragment: sum over lights of incident * model, plus ambient * albedo; SL_FRAGS_PER_ITEM fragments a work-item.
 __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const float* restrict py,
                               __global const float* restrict pz, __global const float* restrict nx,
@@ -52,4 +49,3 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
         out[2 * stride + i] = sl_finite_or_zero(b);
     }
 }
-#pragma clang diagnostic pop

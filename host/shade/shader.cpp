@@ -278,12 +278,26 @@ cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers
     return ev;
 }
 
-// Maps `buf` (`floats` long) for reading, which makes the kernel's writes visible at `host` (on a CPU device
-// the mapping is the host memory itself: no copy), and unmaps it.
-void sync_to_host(cl::CommandQueue& q, const cl::Buffer& buf, float* host, std::size_t floats) {
-    void* mapped = q.enqueueMapBuffer(buf, CL_TRUE, CL_MAP_READ, 0, floats * sizeof(float));
-    if (mapped != host) std::memcpy(host, mapped, floats * sizeof(float));
-    q.enqueueUnmapMemObject(buf, mapped);
+// The output buffers' read maps, which make the kernels' writes visible at the host pointers (on a CPU device a
+// mapping is the host memory itself: no copy). They are enqueued behind the launches without blocking, so that
+// the frame waits once for launches and maps together: each blocking call is a round trip to the device's
+// threads, which costs as much as a small frame's kernel.
+struct ReadMap {
+    const cl::Buffer* buf = nullptr;
+    float* host = nullptr;
+    std::size_t floats = 0;
+    void* mapped = nullptr;
+};
+
+void enqueue_read_map(cl::CommandQueue& q, ReadMap& m) {
+    m.mapped = q.enqueueMapBuffer(*m.buf, CL_FALSE, CL_MAP_READ, 0, m.floats * sizeof(float));
+}
+
+// After the queue has finished: the mapped results at the host pointer (a copy only where the device mapped
+// elsewhere), and the unmap enqueued.
+void finish_read_map(cl::CommandQueue& q, const ReadMap& m) {
+    if (m.mapped != m.host) std::memcpy(m.host, m.mapped, m.floats * sizeof(float));
+    q.enqueueUnmapMemObject(*m.buf, m.mapped);
 }
 
 }  // namespace
@@ -356,13 +370,16 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
         k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
         k.setArg(12, btab);
         cl::Event ev_main, ev_rest;
+        ReadMap map_main{&main.out, out.data(), out.size()}, map_rest{&rest.out, tail_out.data(), tail_out.size()};
         if (body) ev_main = enqueue_launch(q, k, main, body, local, per_item);
         if (tail) ev_rest = enqueue_launch(q, k, rest, group, local, per_item);
+        if (body) enqueue_read_map(q, map_main);
+        if (tail) enqueue_read_map(q, map_rest);
         q.finish();
         const auto t3 = clock::now();
-        if (body) sync_to_host(q, main.out, out.data(), out.size());
-        if (tail) sync_to_host(q, rest.out, tail_out.data(), tail_out.size());
-        q.finish();
+        if (body) finish_read_map(q, map_main);
+        if (tail) finish_read_map(q, map_rest);
+        q.finish();   // the unmaps done before the buffers and `tail_out` go
         for (std::size_t c = 0; c < 3 && tail; ++c)
             std::copy_n(tail_out.begin() + std::ptrdiff_t(c * group), tail, out.begin() + std::ptrdiff_t(c * n + body));
         const auto t4 = clock::now();

@@ -40,8 +40,8 @@ struct ShadeTiming {
     // than a work-group of fragments is copied (padded), with the material's constants and lights.
     double upload_ms = 0.0;
     double kernel_ms = 0.0;    // device time of the kernel launches (profiling events)
-    // Making the results visible to the host: a map of the output (no copy on a CPU device), then the tail's
-    // few results copied into place.
+    // Making the results visible to the host, after the one wait for the launches and the output's read maps
+    // (enqueued behind them; no copy on a CPU device): the unmaps, then the tail's few results copied into place.
     double download_ms = 0.0;
 };
 
