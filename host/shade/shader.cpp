@@ -278,6 +278,26 @@ cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers
     return ev;
 }
 
+// Sets the arguments that a frame's launches share (kernels/shade_fragments.cl: view, material constants, lights,
+// ambient, tables) and returns the buffers behind them, which must outlive the launches.
+std::array<cl::Buffer, 3> set_frame_args(cl::Context& ctx, cl::Kernel& k, const std::vector<ModelConsts>& consts,
+                                         const std::vector<DeviceLight>& lights, const glm::dvec4& view,
+                                         const glm::dvec3& ambient, const Material& mat) {
+    std::array<cl::Buffer, 3> b{
+        cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
+                   const_cast<ModelConsts*>(consts.data())),
+        cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(DeviceLight),
+                   const_cast<DeviceLight*>(lights.data())),
+        table_buffer(ctx, mat)};
+    const DeviceView dview{{float(view.x), float(view.y), float(view.z)}, float(view.w)};
+    k.setArg(8, sizeof dview, &dview);
+    k.setArg(9, b[0]);
+    k.setArg(10, b[1]);
+    k.setArg(11, cl_float4{{float(ambient.x), float(ambient.y), float(ambient.z), 0.0f}});
+    k.setArg(12, b[2]);
+    return b;
+}
+
 // The output buffers' read maps, which make the kernels' writes visible at the host pointers (on a CPU device a
 // mapping is the host memory itself: no copy). They are enqueued behind the launches without blocking, so that
 // the frame waits once for launches and maps together: each blocking call is a round trip to the device's
@@ -357,18 +377,8 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
                                   tail_out.data());
             rest.stride = group;
         }
-        cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
-                           const_cast<ModelConsts*>(consts.data()));
-        cl::Buffer blights(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, lights.size() * sizeof(DeviceLight),
-                           const_cast<DeviceLight*>(lights.data()));
-        cl::Buffer btab = table_buffer(ctx, mat);
+        const std::array<cl::Buffer, 3> frame_args = set_frame_args(ctx, k, consts, lights, view, setup.ambient, mat);
         const auto t2 = clock::now();
-        const DeviceView dview{{float(view.x), float(view.y), float(view.z)}, float(view.w)};
-        k.setArg(8, sizeof dview, &dview);
-        k.setArg(9, bconsts);
-        k.setArg(10, blights);
-        k.setArg(11, cl_float4{{float(setup.ambient.x), float(setup.ambient.y), float(setup.ambient.z), 0.0f}});
-        k.setArg(12, btab);
         cl::Event ev_main, ev_rest;
         ReadMap map_main{&main.out, out.data(), out.size()}, map_rest{&rest.out, tail_out.data(), tail_out.size()};
         if (body) ev_main = enqueue_launch(q, k, main, body, local, per_item);
