@@ -427,6 +427,7 @@ void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shad
     ro.width = w;
     ro.height = h;
     ro.threads = kThreads;
+    ro.triangle_ids = false;   // a per-pixel frame reads none, as in `shadelab render` without --per-vertex
     RasterStats rs;
     rasterize_into(mesh, s.camera, ro, fb, &rs);
     const auto t1 = clock_type::now();
@@ -451,6 +452,7 @@ void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int fr
             ro.width = w;
             ro.height = h;
             ro.threads = counts[k];
+            ro.triangle_ids = false;   // as in the frame
             RasterStats rs;
             const auto t0 = clock_type::now();
             const FragmentBuffer fb = rasterize(mesh, s.camera, ro, &rs);

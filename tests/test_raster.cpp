@@ -727,6 +727,45 @@ TEST_CASE("raster: rasterize_into a reused buffer (a larger frame, a smaller one
     }
 }
 
+TEST_CASE("raster: triangle_ids = false leaves triangle, b1 and b2 empty and every other field the same", "[raster]") {
+    const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
+    Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.5);
+    SECTION("whole bunny, 1 and 2 threads, rasterize and rasterize_into a buffer that held ids") {
+        for (int t : {1, 2}) {
+            RasterOptions o = opts(300, 200, t);
+            const FragmentBuffer a = rasterize(bunny, cam, o);
+            REQUIRE(a.size() > 5000);
+            REQUIRE(a.triangle.size() == a.size());
+            o.triangle_ids = false;
+            FragmentBuffer reused = a;   // ids present: they must go
+            rasterize_into(bunny, cam, o, reused);
+            const FragmentBuffer fresh = rasterize(bunny, cam, o);
+            for (const FragmentBuffer* b : {static_cast<const FragmentBuffer*>(&reused), &fresh}) {
+                INFO("threads " << t << (b == &reused ? ", reused buffer" : ", fresh buffer"));
+                CHECK(b->width == a.width);
+                CHECK(b->height == a.height);
+                check_same_fragments(a, *b);
+                CHECK(b->triangle.empty());
+                CHECK(b->b1.empty());
+                CHECK(b->b2.empty());
+            }
+        }
+    }
+    SECTION("cut by the near plane (clipped triangles), normals flipped") {
+        cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
+        cam.z_near = 0.95 * glm::length(cam.eye - cam.target);
+        RasterOptions o = opts(256, 256, 2);
+        o.flip_normals_to_viewer = true;
+        RasterStats st;
+        const FragmentBuffer a = rasterize(bunny, cam, o, &st);
+        REQUIRE(st.triangles_clipped > 0);
+        o.triangle_ids = false;
+        const FragmentBuffer b = rasterize(bunny, cam, o);
+        check_same_fragments(a, b);
+        CHECK(b.triangle.empty());
+    }
+}
+
 TEST_CASE("raster: thread counts beyond the rows, tiny images and lopsided scenes give identical results", "[raster]") {
     // Two overlapping quads in the top-left corner only (most bands get no triangles), on small images.
     Mesh m;

@@ -98,6 +98,7 @@ pipeline::Job job_of(const RenderArgs& a) {
     in_range(job.background[3], "--background alpha", 0.0, 1.0);
     job.precision = parse_precision(a.precision);
     job.per_vertex = a.per_vertex;
+    job.triangle_ids = a.per_vertex || a.tolerance > 0.0;   // the plan may choose per-vertex shading of this frame
     job.outputs.colour = {a.output};
     job.outputs.depth = aov_path(a.depth, "--depth");
     job.outputs.normal = aov_path(a.normal, "--normal");

@@ -154,6 +154,7 @@ Frame raster(const Job& job, StageTimes& times) {
         ro.height = job.height;
         ro.threads = job.raster_threads;
         ro.cull_backfaces = m.cull_backfaces;
+        ro.triangle_ids = job.triangle_ids;
         parts.push_back(rasterize(m.mesh, job.camera, ro));
     }
     Frame frame;

@@ -68,6 +68,9 @@ struct Job {
     glm::dvec4 background{0.0, 0.0, 0.0, 0.0};
     Precision precision = Precision::Precise;
     bool per_vertex = false;           // shade the vertices and interpolate (Gouraud) instead of per pixel
+    // raster() fills the fragments' triangle ids and barycentrics (RasterOptions::triangle_ids), which per-vertex
+    // shading needs; a caller that knows the frame will be shaded per pixel only sets it false.
+    bool triangle_ids = true;
     // Orthographic views (the moon disc): the direction to the viewer, the same for every fragment, when its
     // length is > 0; else the viewer is at the camera's eye.
     glm::dvec3 view_direction{0.0};

@@ -722,7 +722,8 @@ Resolve resolve_of(const Corners& k, std::int32_t id) {
     return r;
 }
 
-// The fragment arrays' first elements, taken once per frame.
+// The fragment arrays' first elements, taken once per frame; triangle, b1 and b2 are null when the frame leaves
+// them empty (RasterOptions::triangle_ids).
 struct FragmentArrays {
     float *px, *py, *pz, *nx, *ny, *nz, *depth, *b1, *b2;
     std::int32_t *pixel, *triangle;
@@ -835,9 +836,11 @@ void emit_pixel(const EmitContext& c, const Resolve& r, int x, int y, std::size_
     fb.nz[at] = float(N.z);
     fb.pixel[at] = std::int32_t(std::size_t(y) * std::size_t(c.width) + std::size_t(x));
     fb.depth[at] = float(d);
-    fb.triangle[at] = r.mesh_triangle;
-    fb.b1[at] = float(v.b.y);
-    fb.b2[at] = float(v.b.z);
+    if (c.out.triangle) {
+        fb.triangle[at] = r.mesh_triangle;
+        fb.b1[at] = float(v.b.y);
+        fb.b2[at] = float(v.b.z);
+    }
 }
 
 // Pixels of one emission block: a fixed count, so that a block is whole vectors without a scalar tail.
@@ -909,15 +912,16 @@ int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::in
     float* const to[9] = {a.px, a.py, a.pz, a.nx, a.ny, a.nz, a.depth, a.b1, a.b2};
     const __m128i pixel = _mm_add_epi32(_mm_set1_epi32(row + xs), _mm_setr_epi32(0, 1, 2, 3));
     const __m128i tri = _mm_set1_epi32(r.mesh_triangle);
+    const int arrays = a.triangle ? 9 : 7;   // b1 and b2 are the last two
     if (whole) {
-        for (int i = 0; i < 9; ++i) _mm_storeu_ps(to[i] + slot, values[i]);
+        for (int i = 0; i < arrays; ++i) _mm_storeu_ps(to[i] + slot, values[i]);
         _mm_storeu_si128(reinterpret_cast<__m128i*>(a.pixel + slot), pixel);
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(a.triangle + slot), tri);
+        if (a.triangle) _mm_storeu_si128(reinterpret_cast<__m128i*>(a.triangle + slot), tri);
     } else {
         const __m128i mask = _mm_cmpgt_epi32(_mm_set1_epi32(count), _mm_setr_epi32(0, 1, 2, 3));
-        for (int i = 0; i < 9; ++i) _mm_maskstore_ps(to[i] + slot, mask, values[i]);
+        for (int i = 0; i < arrays; ++i) _mm_maskstore_ps(to[i] + slot, mask, values[i]);
         _mm_maskstore_ps(reinterpret_cast<float*>(a.pixel + slot), mask, _mm_castsi128_ps(pixel));
-        _mm_maskstore_ps(reinterpret_cast<float*>(a.triangle + slot), mask, _mm_castsi128_ps(tri));
+        if (a.triangle) _mm_maskstore_ps(reinterpret_cast<float*>(a.triangle + slot), mask, _mm_castsi128_ps(tri));
     }
     return ~_mm256_movemask_pd(ok) & 0xF;
 }
@@ -937,10 +941,11 @@ struct RunView {
     std::int32_t tri, row;
 };
 
-RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at, FragmentBuffer& fb) {
-    return RunView{fb.px.data() + at, fb.py.data() + at, fb.pz.data() + at, fb.nx.data() + at, fb.ny.data() + at,
-                   fb.nz.data() + at, fb.depth.data() + at, fb.b1.data() + at, fb.b2.data() + at,
-                   fb.pixel.data() + at, fb.triangle.data() + at, r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2],
+RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at) {
+    const FragmentArrays& a = c.out;
+    const bool ids = a.triangle != nullptr;   // else b1, b2 and triangle stay null: nothing is stored there
+    return RunView{a.px + at, a.py + at, a.pz + at, a.nx + at, a.ny + at, a.nz + at, a.depth + at,
+                   ids ? a.b1 + at : nullptr, ids ? a.b2 + at : nullptr, a.pixel + at, ids ? a.triangle + at : nullptr, r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2],
                    r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
                    c.forward.z, c.flip, r.mesh_triangle, std::int32_t(std::size_t(y) * std::size_t(c.width))};
 }
@@ -1010,10 +1015,12 @@ void store_lanes(const LaneBlock& b, int n, int o, const RunView& v) {
     std::memcpy(v.ny + o, b.ny, f);
     std::memcpy(v.nz + o, b.nz, f);
     std::memcpy(v.depth + o, b.depth, f);
-    std::memcpy(v.b1 + o, b.b1, f);
-    std::memcpy(v.b2 + o, b.b2, f);
+    if (v.triangle) {
+        std::memcpy(v.b1 + o, b.b1, f);
+        std::memcpy(v.b2 + o, b.b2, f);
+        std::memcpy(v.triangle + o, b.triangle, i);
+    }
     std::memcpy(v.pixel + o, b.pixel, i);
-    std::memcpy(v.triangle + o, b.triangle, i);
 }
 
 #endif
@@ -1042,7 +1049,7 @@ void emit_run(const EmitContext& c, const Resolve& r, int y, int xa, int xb, std
         }
     }
 #else
-    const RunView v = run_view(c, r, y, at, fb);
+    const RunView v = run_view(c, r, y, at);
     for (int b0 = xa; b0 < xb; b0 += kLanes) {
         const int n = std::min(kLanes, xb - b0), o = b0 - xa;
         const LaneBlock lanes = n == 1 ? emit_lanes<1>(v, b0) : emit_lanes<kLanes>(v, b0);
@@ -1253,20 +1260,29 @@ std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
     return at;
 }
 
-// The eleven fragment arrays sized for n fragments. Growing an array value-initialises its new elements (and
-// faults in fresh pages): a pass over 44 bytes per fragment that, on one thread, kept the other idle, so the
-// threads take every threads-th array (each vector is one thread's alone).
-void size_fragments(FragmentBuffer& fb, std::size_t n, int threads) {
-    std::vector<float>* const f[] = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth, &fb.b1, &fb.b2};
-    std::vector<std::int32_t>* const i[] = {&fb.pixel, &fb.triangle};
-    constexpr int kArrays = 11;
+// The eleven fragment arrays sized for n fragments (eight, and triangle, b1 and b2 emptied, without
+// `triangle_ids`). Growing an array value-initialises its new elements (and faults in fresh pages): a pass over
+// 44 bytes per fragment that, on one thread, kept the other idle, so the threads take every threads-th array
+// (each vector is one thread's alone).
+void size_fragments(FragmentBuffer& fb, std::size_t n, bool triangle_ids, int threads) {
+    std::vector<std::vector<float>*> f = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth};
+    std::vector<std::vector<std::int32_t>*> i = {&fb.pixel};
+    if (triangle_ids) {
+        f.insert(f.end(), {&fb.b1, &fb.b2});
+        i.push_back(&fb.triangle);
+    } else {
+        fb.triangle.clear();
+        fb.b1.clear();
+        fb.b2.clear();
+    }
+    const std::size_t floats = f.size(), arrays = f.size() + i.size();
     bool grows = false;
     for (const std::vector<float>* v : f) grows = grows || v->size() < n;
     for (const std::vector<std::int32_t>* v : i) grows = grows || v->size() < n;
-    const int workers = grows ? std::min(threads, kArrays) : 1;
+    const int workers = grows ? std::min(threads, int(arrays)) : 1;
     run_parallel(workers, [&](int t) {
-        for (int k = t; k < kArrays; k += workers)
-            k < 9 ? size_for_frame(*f[k], n) : size_for_frame(*i[k - 9], n);
+        for (std::size_t k = std::size_t(t); k < arrays; k += std::size_t(workers))
+            k < floats ? size_for_frame(*f[k], n) : size_for_frame(*i[k - floats], n);
     });
 }
 
@@ -1276,12 +1292,13 @@ void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, co
     const std::vector<std::size_t> at = band_offsets(scratch.spans.get(), g);
     fb.width = g.width;
     fb.height = g.height;
-    size_fragments(fb, at.back(), threads);
+    size_fragments(fb, at.back(), o.triangle_ids, threads);
     const EmitContext ctx{&mesh, s.sv, &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
                           g.height, FragmentArrays{fb.px.data(), fb.py.data(), fb.pz.data(), fb.nx.data(), fb.ny.data(),
-                                                   fb.nz.data(), fb.depth.data(), fb.b1.data(), fb.b2.data(),
-                                                   fb.pixel.data(), fb.triangle.data()}};
+                                                   fb.nz.data(), fb.depth.data(), o.triangle_ids ? fb.b1.data() : nullptr,
+                                                   o.triangle_ids ? fb.b2.data() : nullptr, fb.pixel.data(),
+                                                   o.triangle_ids ? fb.triangle.data() : nullptr}};
     const int bands = band_count(g), rows = band_rows(g);
     std::atomic<int> next_band{0};
     run_parallel(threads, [&](int) {

@@ -311,6 +311,7 @@ Prepared Runner::prepare(const BatchJob& job) {
         p.job = job_for(s, geo, opt_.raster_threads);
         p.result.times.load_ms = ms_since(t0);
         if (opt_.tolerance > 0.0) r.warnings.push_back(plan_note(rt_, opt_, p.job, p.result.times));
+        p.job.triangle_ids = p.job.per_vertex;   // planned above (per-pixel candidates only): the job is final
         p.frame = pipeline::raster(p.job, p.result.times);
         r.fragments = p.frame.fb.size();
         if (p.frame.fb.empty())
