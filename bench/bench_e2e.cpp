@@ -441,11 +441,14 @@ void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shad
 }
 
 // The rasteriser alone on 1 and on kThreads threads (best of `frames` each, interleaved): how its threads
-// scale, with its stages. The bar is 2 threads >= 1.7x one thread on an idle machine.
+// scale, with its stages. The bar is 2 threads >= 1.7x one thread on an idle machine. Each thread count
+// rasterises into a buffer of its own kept from frame to frame, as the frame does (a fresh buffer's page faults,
+// ~160 MB of them at 4096x4096, are the kernel's work, and moved the 2-thread figure by up to 1.4x between runs).
 void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int frames) {
     RasterStats best[2];
     double best_ms[2] = {1e30, 1e30};
     const int counts[2] = {1, kThreads};
+    FragmentBuffer kept[2];
     for (int f = 0; f < std::max(3, frames); ++f)
         for (int k = 0; k < 2; ++k) {
             RasterOptions ro;
@@ -455,7 +458,7 @@ void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int fr
             ro.triangle_ids = false;   // as in the frame
             RasterStats rs;
             const auto t0 = clock_type::now();
-            const FragmentBuffer fb = rasterize(mesh, s.camera, ro, &rs);
+            rasterize_into(mesh, s.camera, ro, kept[k], &rs);
             const double ms = ms_since(t0, clock_type::now());
             if (ms < best_ms[k]) {
                 best_ms[k] = ms;
