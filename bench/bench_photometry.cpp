@@ -142,15 +142,13 @@ KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     k.setArg(8, cl_uint(n));
     k.setArg(9, bc);
     // make_rows pads to a multiple of 256 (the kernel has no bounds check); the first launch compiles
-    const std::size_t per_item = rt.vector_width();   // rows a work-item (kernels/photometry.cl)
-    const cl::NDRange global(n / per_item), local(256 / per_item);
-    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
+    photometry::enqueue_rows(rt, k, n, 256);
     rt.queue().finish();
     double best = 1e30;
     const double c0 = cpu_seconds();
     for (int rep = 0; rep < 5; ++rep) {
         const auto t0 = clock_type::now();
-        rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, local);
+        photometry::enqueue_rows(rt, k, n, 256);
         rt.queue().finish();
         best = std::min(best, seconds(t0, clock_type::now()));
     }

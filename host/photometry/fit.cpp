@@ -77,9 +77,7 @@ public:
                 k.setArg(7, bo);
                 k.setArg(8, cl_uint(padded_));
                 k.setArg(9, bc);
-                const std::size_t per_item = rt_.vector_width();   // rows a work-item (kernels/photometry.cl)
-                rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded_ / per_item, ns),
-                                                 cl::NDRange(kLocal / per_item, 1));
+                enqueue_rows(rt_, k, padded_, kLocal, ns);
                 std::vector<float> flat(ns * padded_);
                 rt_.queue().enqueueReadBuffer(bo, CL_TRUE, 0, flat.size() * sizeof(float), flat.data());
                 for (std::size_t s = 0; s < ns; ++s)

@@ -404,6 +404,14 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
     return defines;
 }
 
+void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets,
+                  bool one_per_item) {
+    const std::size_t per_item = one_per_item ? 1 : rt.vector_width();
+    const cl::NDRange global = sets ? cl::NDRange(rows / per_item, sets) : cl::NDRange(rows / per_item);
+    const cl::NDRange group = sets ? cl::NDRange(local / per_item, 1) : cl::NDRange(local / per_item);
+    rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, group);
+}
+
 std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geometry>& rows, Precision precision,
                              bool raw) {
     for (std::size_t r = 0; r < rows.size(); ++r) check_geometry(rows[r], "row " + std::to_string(r + 1));
@@ -439,10 +447,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 k.setArg(8, cl_uint(n));
                 k.setArg(9, keep.back());
             }
-            // eval_photometric shades rt.vector_width() rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM)
-            const std::size_t per_item = law.empirical ? 1 : rt.vector_width();
-            rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(padded / per_item),
-                                            cl::NDRange(local / per_item));
+            enqueue_rows(rt, k, padded, local, 0, law.empirical != 0);
             std::vector<float> out(n);
             rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
             for (std::size_t j = 0; j < n; ++j) result[first + j] = out[j];

@@ -79,6 +79,13 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
 // The defines kernels/photometry.cl is built with for this law.
 std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw);
 
+// Enqueues a kernel of kernels/photometry.cl over `rows` rows (padded: a multiple of `local`, the work-group's
+// rows, since the kernels have no bounds check) and `sets` parameter sets (eval_photometric_sets' second
+// dimension; 0 for the one-dimensional kernels). eval_photometric and eval_photometric_sets take
+// rt.vector_width() rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM), eval_empirical one (`one_per_item`).
+void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets = 0,
+                  bool one_per_item = false);
+
 // The law at one geometry with the double-precision references (host/reference/).
 double evaluate_reference(const Law& law, const Geometry& g);
 
