@@ -72,6 +72,17 @@ void check_same_raster(const FragmentBuffer& a, const FragmentBuffer& b) {
     CHECK(a.b2 == b.b2);
 }
 
+// A camera so close to the bunny that the near plane cuts it (clipped triangles are part of the comparison),
+// for 256 x 256 with normals flipped to the viewer.
+Camera near_cut_camera(const Mesh& bunny, RasterOptions& o) {
+    Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
+    cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
+    cam.z_near = 0.95 * glm::length(cam.eye - cam.target);
+    o.width = o.height = 256;
+    o.flip_normals_to_viewer = true;
+    return cam;
+}
+
 // A rectangle [x0, x1] x [y0, y1] on the plane z (world coordinates), as two triangles facing +z.
 Mesh world_rect(double x0, double y0, double x1, double y1, double z) {
     Mesh m;
@@ -671,12 +682,8 @@ TEST_CASE("raster: near-plane clipping keeps what is in front, with the analytic
 TEST_CASE("raster: results are bit-identical for 1, 2, 3 and 7 threads", "[raster]") {
     SECTION("bunny cut by the near plane, normals flipped: every fragment field and the stats, 1 vs 2 and 3 threads") {
         const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
-        Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.0);
-        // Close enough that the near plane cuts the bunny, so clipped triangles are part of the comparison.
-        cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
-        cam.z_near = 0.95 * glm::length(cam.eye - cam.target);
         RasterOptions o = opts(256, 256, 1);
-        o.flip_normals_to_viewer = true;
+        const Camera cam = near_cut_camera(bunny, o);
         RasterStats st1;
         const FragmentBuffer a = rasterize(bunny, cam, o, &st1);
         REQUIRE(a.size() > 10000);
@@ -729,7 +736,7 @@ TEST_CASE("raster: rasterize_into a reused buffer (a larger frame, a smaller one
 
 TEST_CASE("raster: triangle_ids = false leaves triangle, b1 and b2 empty and every other field the same", "[raster]") {
     const Mesh bunny = load_mesh(test::kMeshes + "/stanford-bunny.obj");
-    Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.5);
+    const Camera cam = Camera::fit(bunny.bounds(), {0.3, 0.2, 1.0}, 35.0, 1.5);
     SECTION("whole bunny, 1 and 2 threads, rasterize and rasterize_into a buffer that held ids") {
         for (int t : {1, 2}) {
             RasterOptions o = opts(300, 200, t);
@@ -752,15 +759,13 @@ TEST_CASE("raster: triangle_ids = false leaves triangle, b1 and b2 empty and eve
         }
     }
     SECTION("cut by the near plane (clipped triangles), normals flipped") {
-        cam.eye = cam.target + 0.35 * (cam.eye - cam.target);
-        cam.z_near = 0.95 * glm::length(cam.eye - cam.target);
         RasterOptions o = opts(256, 256, 2);
-        o.flip_normals_to_viewer = true;
+        const Camera near = near_cut_camera(bunny, o);
         RasterStats st;
-        const FragmentBuffer a = rasterize(bunny, cam, o, &st);
+        const FragmentBuffer a = rasterize(bunny, near, o, &st);
         REQUIRE(st.triangles_clipped > 0);
         o.triangle_ids = false;
-        const FragmentBuffer b = rasterize(bunny, cam, o);
+        const FragmentBuffer b = rasterize(bunny, near, o);
         check_same_fragments(a, b);
         CHECK(b.triangle.empty());
     }
