@@ -729,6 +729,18 @@ struct FragmentArrays {
     std::int32_t *pixel, *triangle;
 };
 
+// `fb`'s arrays as emission writes them (an emptied vector may keep its memory, so `triangle_ids` decides).
+FragmentArrays fragment_arrays(FragmentBuffer& fb, bool triangle_ids) {
+    FragmentArrays a{fb.px.data(), fb.py.data(), fb.pz.data(), fb.nx.data(), fb.ny.data(), fb.nz.data(),
+                     fb.depth.data(), nullptr, nullptr, fb.pixel.data(), nullptr};
+    if (triangle_ids) {
+        a.b1 = fb.b1.data();
+        a.b2 = fb.b2.data();
+        a.triangle = fb.triangle.data();
+    }
+    return a;
+}
+
 struct EmitContext {
     const Mesh* mesh;
     const ScreenVertex* vertices;
@@ -864,7 +876,6 @@ inline __m256d finite_v(__m256d v) {   // finite_d: |v| <= max (false for NaN)
 inline __m256d sign_of(__m256d negative) {   // -1 where the mask is set, else 1
     return _mm256_blendv_pd(_mm256_set1_pd(1.0), _mm256_set1_pd(-1.0), negative);
 }
-inline void store_f(float* to, __m256d v) { _mm_storeu_ps(to, _mm256_cvtpd_ps(v)); }
 
 // Pixels xs .. xs + 3 of row y (Y = y + 0.5 - r.y0), won by the triangle of `r`, stored straight into slots
 // `slot` .. of the fragment arrays: all four lanes when `whole` (lanes past the run write slots that later runs
@@ -904,15 +915,18 @@ int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::in
         _mm256_add_pd(_mm256_mul_pd(_mm256_sub_pd(Px, ex), _mm256_set1_pd(c.forward.x)),
                       _mm256_mul_pd(_mm256_sub_pd(Py, ey), _mm256_set1_pd(c.forward.y))),
         _mm256_mul_pd(_mm256_sub_pd(Pz, ez), _mm256_set1_pd(c.forward.z)));
-    const __m128 values[9] = {_mm256_cvtpd_ps(Px), _mm256_cvtpd_ps(Py), _mm256_cvtpd_ps(Pz),
-                              _mm256_cvtpd_ps(Nx), _mm256_cvtpd_ps(Ny), _mm256_cvtpd_ps(Nz),
-                              _mm256_cvtpd_ps(depth), _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b1, X, Y), inv)),
-                              _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b2, X, Y), inv))};
     const FragmentArrays& a = c.out;
+    __m128 values[9] = {_mm256_cvtpd_ps(Px), _mm256_cvtpd_ps(Py), _mm256_cvtpd_ps(Pz), _mm256_cvtpd_ps(Nx),
+                        _mm256_cvtpd_ps(Ny), _mm256_cvtpd_ps(Nz), _mm256_cvtpd_ps(depth)};
+    int arrays = 7;
+    if (a.triangle) {   // the barycentrics only where the frame keeps them (RasterOptions::triangle_ids)
+        values[7] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b1, X, Y), inv));
+        values[8] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b2, X, Y), inv));
+        arrays = 9;
+    }
     float* const to[9] = {a.px, a.py, a.pz, a.nx, a.ny, a.nz, a.depth, a.b1, a.b2};
     const __m128i pixel = _mm_add_epi32(_mm_set1_epi32(row + xs), _mm_setr_epi32(0, 1, 2, 3));
     const __m128i tri = _mm_set1_epi32(r.mesh_triangle);
-    const int arrays = a.triangle ? 9 : 7;   // b1 and b2 are the last two
     if (whole) {
         for (int i = 0; i < arrays; ++i) _mm_storeu_ps(to[i] + slot, values[i]);
         _mm_storeu_si128(reinterpret_cast<__m128i*>(a.pixel + slot), pixel);
@@ -945,8 +959,8 @@ RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at) 
     const FragmentArrays& a = c.out;
     const bool ids = a.triangle != nullptr;   // else b1, b2 and triangle stay null: nothing is stored there
     return RunView{a.px + at, a.py + at, a.pz + at, a.nx + at, a.ny + at, a.nz + at, a.depth + at,
-                   ids ? a.b1 + at : nullptr, ids ? a.b2 + at : nullptr, a.pixel + at, ids ? a.triangle + at : nullptr, r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2],
-                   r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
+                   ids ? a.b1 + at : nullptr, ids ? a.b2 + at : nullptr, a.pixel + at, ids ? a.triangle + at : nullptr,
+                   r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2], r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
                    c.forward.z, c.flip, r.mesh_triangle, std::int32_t(std::size_t(y) * std::size_t(c.width))};
 }
 
@@ -1295,10 +1309,7 @@ void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, co
     size_fragments(fb, at.back(), o.triangle_ids, threads);
     const EmitContext ctx{&mesh, s.sv, &s.chunks, &s.first_id, scratch.owner.get(), scratch.spans.get(), g.tiles_x,
                           camera.eye, glm::normalize(camera.target - camera.eye), o.flip_normals_to_viewer, g.width,
-                          g.height, FragmentArrays{fb.px.data(), fb.py.data(), fb.pz.data(), fb.nx.data(), fb.ny.data(),
-                                                   fb.nz.data(), fb.depth.data(), o.triangle_ids ? fb.b1.data() : nullptr,
-                                                   o.triangle_ids ? fb.b2.data() : nullptr, fb.pixel.data(),
-                                                   o.triangle_ids ? fb.triangle.data() : nullptr}};
+                          g.height, fragment_arrays(fb, o.triangle_ids)};
     const int bands = band_count(g), rows = band_rows(g);
     std::atomic<int> next_band{0};
     run_parallel(threads, [&](int) {

@@ -75,8 +75,8 @@ public:
     static constexpr std::size_t kManyModels = 64, kManyHeaders = 16;   // kernels/shade_many.cl's slots
 
     // Fragments a work-item of a model's shade kernel evaluates on a device of `device_width` lanes
-    // (Runtime::vector_width()): all of them, except that the models that read normals only
-    // (`normals_only`: ModelInfo::normals_only) take no more than kNormalsOnlyLanes (their programs are built with SL_MAX_LANES,
+    // (Runtime::vector_width()): all of them, except that the models that read normals only (`normals_only`:
+    // ModelInfo::normals_only) take no more than kNormalsOnlyLanes (their programs are built with SL_MAX_LANES,
     // kernels/common.cl). Those run at memory speed, and 16 lanes in 512-bit registers ran them at 0.80-0.87x
     // of 8 lanes on an Intel AVX-512 host, while every model with more arithmetic gained (docs/speed.md,
     // "Sixteen lanes").
