@@ -1,6 +1,8 @@
 // The banded / toon family (kernels/models/banded_toon.cl, docs/models/banded_toon.md): banded Lambert
 // (NoL rounded to steps levels), seed 001's literal banding formula, and the toon shader of seed 004.
 // Constants are packed once per material here.
+#include <algorithm>
+#include <cfloat>
 #include <string>
 
 #include "core/error.hpp"
@@ -100,6 +102,9 @@ ModelInfo toon_model() {
         ToonConsts k{};
         k.n = float(p[kN]);
         k.half_width = float(0.5 * p[kWidth]);
+        // The smoothstep's slope, so the kernel's six band edges multiply instead of divide (capped at the
+        // largest float: a width below ~3e-39 would otherwise give inf, and 0 * inf at an edge NaN).
+        k.inv_width = p[kWidth] > 0.0 ? float(std::min(1.0 / p[kWidth], double(FLT_MAX))) : 0.0f;
         k.t1 = float(p[kDt1]);
         k.t2 = float(p[kDt2]);
         k.t3 = float(p[kDt3]);
@@ -117,8 +122,8 @@ ModelInfo toon_model() {
     m.energy_conserving = false;   // e.g. levels above NoL on most of the lit side, plus the highlight
     // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
     m.precision = {
-        {"*", 4.66e-4, 1.5e-3, 4.66e-4, 1.5e-3},
-        {"diffuse_l3=0", 6.12e-3, 2e-2, 6.12e-3, 2e-2},
+        {"*", 6.29e-4, 1.5e-3, 6.34e-4, 1.5e-3},
+        {"diffuse_l3=0", 6.12e-3, 2e-2, 6.16e-3, 2e-2},
     };
     return m;
 }

@@ -41,8 +41,9 @@ typedef struct {
     float u1, u2;      // specular thresholds
     float s0;          // specular level below u1
     float ds1, ds2;    // s1 - s0, s2 - s1
+    float inv_width;   // 1 / (2 half_width), the smoothstep's slope (0 for hard steps: unused there)
 } ToonConsts;
-SL_SIZE_IS(ToonConsts, 14)
+SL_SIZE_IS(ToonConsts, 15)
 SL_FIELD_AT(ToonConsts, n, 0)
 SL_FIELD_AT(ToonConsts, half_width, 1)
 SL_FIELD_AT(ToonConsts, t1, 2)
@@ -57,6 +58,7 @@ SL_FIELD_AT(ToonConsts, u2, 10)
 SL_FIELD_AT(ToonConsts, s0, 11)
 SL_FIELD_AT(ToonConsts, ds1, 12)
 SL_FIELD_AT(ToonConsts, ds2, 13)
+SL_FIELD_AT(ToonConsts, inv_width, 14)
 SL_FITS_BLOCK(ToonConsts)
 
 SL_SHARED_END

@@ -36,19 +36,21 @@ SL_INLINE float Band_Seed001(float NoL, float t, float half_t, float t_256) {
     return floor((fmax(NoL, 0.0f) * 256.0f + half_t) / t) * t_256;
 }
 
-// Hermite smoothstep over [e0, e1] as OpenCL defines it: t = clamp((x - e0) / (e1 - e0), 0, 1), t^2 (3 - 2 t).
-// Written out because PoCL's smoothstep and step are calls the work-item loop vectoriser cannot widen.
-SL_INLINE float Toon_Smoothstep(float e0, float e1, float x) {
-    const float t = sl_saturate((x - e0) / (e1 - e0));
+// Hermite smoothstep over [e0, e0 + w] as OpenCL defines it: t = clamp((x - e0) / w, 0, 1), t^2 (3 - 2 t), with
+// the slope inv_w = 1 / w precomputed on the host (toon's six edges divided by w each: a division is the
+// costliest instruction of the vectorised loop). Written out because PoCL's smoothstep and step are calls the
+// work-item loop vectoriser cannot widen.
+SL_INLINE float Toon_Smoothstep(float e0, float inv_w, float x) {
+    const float t = sl_saturate((x - e0) * inv_w);
     return t * t * (3.0f - 2.0f * t);
 }
 
 // One toon band edge at threshold `edge`: half_width 0 gives a hard step (x >= edge -> 1: a value
 // exactly at the edge takes the upper level); half_width > 0 a smoothstep over
-// [edge - half_width, edge + half_width]. (Smoothstep is undefined for equal edges, hence the explicit
-// hard case; both are computed and one selected, so there is no branch.)
-SL_INLINE float Toon_Step(float x, float edge, float half_width) {
-    const float smooth = Toon_Smoothstep(edge - half_width, edge + half_width, x);
+// [edge - half_width, edge + half_width], inv_width = 1 / (2 half_width). (Smoothstep is undefined for equal
+// edges, hence the explicit hard case; both are computed and one selected, so there is no branch.)
+SL_INLINE float Toon_Step(float x, float edge, float half_width, float inv_width) {
+    const float smooth = Toon_Smoothstep(edge - half_width, inv_width, x);
     const float hard = x >= edge ? 1.0f : 0.0f;
     return half_width > 0.0f ? smooth : hard;
 }
@@ -62,9 +64,9 @@ SL_INLINE float Toon_Step(float x, float edge, float half_width) {
 // fragment at a time). So the sum is an fma chain (no reduction to match) and each step starts after the
 // previous one (common.cl's sl_after: no two steps are independent, so none can be bundled).
 SL_INLINE float Toon_Diffuse(float NoL, float half_width, const ToonConsts* k) {
-    const float s1 = Toon_Step(NoL, k->t1, half_width);
-    const float s2 = Toon_Step(sl_after(NoL, s1), k->t2, half_width);
-    const float s3 = Toon_Step(sl_after(NoL, s2), k->t3, half_width);
+    const float s1 = Toon_Step(NoL, k->t1, half_width, k->inv_width);
+    const float s2 = Toon_Step(sl_after(NoL, s1), k->t2, half_width, k->inv_width);
+    const float s3 = Toon_Step(sl_after(NoL, s2), k->t3, half_width, k->inv_width);
     return fma(k->dd3, s3, fma(k->dd2, s2, fma(k->dd1, s1, k->d0)));
 }
 
@@ -72,8 +74,8 @@ SL_INLINE float Toon_Diffuse(float NoL, float half_width, const ToonConsts* k) {
 // u1 <= u2, s0 + (s1 - s0) Step(x, u1) + (s2 - s1) Step(x, u2).
 // ToonConsts: u1, u2, s0 and the level differences ds1, ds2 (host). Written as Toon_Diffuse, for the same reason.
 SL_INLINE float Toon_Specular(float x, float half_width, const ToonConsts* k) {
-    const float s1 = Toon_Step(x, k->u1, half_width);
-    const float s2 = Toon_Step(sl_after(x, s1), k->u2, half_width);
+    const float s1 = Toon_Step(x, k->u1, half_width, k->inv_width);
+    const float s2 = Toon_Step(sl_after(x, s1), k->u2, half_width, k->inv_width);
     return fma(k->ds2, s2, fma(k->ds1, s1, k->s0));
 }
 
@@ -100,8 +102,9 @@ SL_INLINE sl_rgb banded_seed001_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const M
 // Seed 004 ("discretize diffuse and specular factor: ~4 intensity values for diffuse, ~3 for
 // specular"); hard shading as in Lake, Marshall, Harris, Blackstein 2000, "Stylized rendering
 // techniques for scalable real-time 3D animation" (NPAR), with the 1-D texture replaced by thresholds.
-// ToonConsts: n, half_width = width / 2, the levels. The highlight is gated by the light's side, an edge at NoL = 0 like the
-// others (hard: NoL >= 0; smoothed with the same width), and is 0 where H is undefined (L = -V).
+// ToonConsts: n, half_width = width / 2, inv_width = 1 / width, the levels. The highlight is gated by the
+// light's side, an edge at NoL = 0 like the others (hard: NoL >= 0; smoothed with the same width), and is 0
+// where H is undefined (L = -V).
 // Leaves out: energy conservation, reciprocity, outlines.
 SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {
     (void)P;
@@ -110,7 +113,7 @@ SL_INLINE sl_rgb toon_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts
     const float half_width = k->half_width;
     const float x = Spec_Power(BlinnPhong_NoH(N, L, V), k->n);
     return sl_diffuse_specular(mc, Toon_Diffuse(NoL, half_width, k),
-                               Toon_Step(NoL, 0.0f, half_width) * Toon_Specular(x, half_width, k));
+                               Toon_Step(NoL, 0.0f, half_width, k->inv_width) * Toon_Specular(x, half_width, k));
 }
 
 #endif
