@@ -391,11 +391,24 @@ SL_INLINE float sl_exp2_ff(float t, float t_lo) {
     return t < -126.0f ? 0.0f : r;
 }
 
-SL_INLINE float sl_pow(float x, float y) {
+// x^y by the formula, for finite x > 0 and finite y (any other x: a finite value of no meaning).
+SL_INLINE float sl_pow_formula(float x, float y) {
     float l_lo;
     const float l = sl_log2_ff(x, &l_lo);
     const float t = y * l;
-    return sl_pow_special(x, y, sl_exp2_ff(t, fma(y, l, -t) + y * l_lo));   // t + t_lo = y (l + l_lo)
+    return sl_exp2_ff(t, fma(y, l, -t) + y * l_lo);   // t + t_lo = y (l + l_lo)
+}
+
+SL_INLINE float sl_pow(float x, float y) { return sl_pow_special(x, y, sl_pow_formula(x, y)); }
+
+// sl_pow for a base the model has already made finite and >= 0 (a max with a constant, a clamp, a select), with
+// finite y: the same value bit for bit (for x > 0 the formula itself gives sl_pow_special's 1 at y = 0 and at
+// x = 1: log2 1 is exactly 0 and 2^0 exactly 1; tests/test_precision.cpp checks this over a sweep), without
+// the tests for x < 0, NaN and infinity: 6 lane-wise operations where sl_pow_special takes about 14.
+// The models reach it as pow_nonneg (below), which fast mode maps to sl_fast_pow (whose contract this is).
+SL_INLINE float sl_pow_nonneg(float x, float y) {
+    const float at_zero = y > 0.0f ? 0.0f : (y == 0.0f ? 1.0f : INFINITY);
+    return x == 0.0f ? at_zero : sl_pow_formula(x, y);
 }
 
 // ---- sl_fast_pow (fast mode): plain float
@@ -534,24 +547,29 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 #define divide(x, y) native_divide((x), (y))
 #endif
 
-// pow in each mode (see "pow: three forms" above).
+// pow in each mode (see "pow: three forms" above), and pow_nonneg: pow where the model guarantees a finite base
+// >= 0 and a finite exponent (the same value; precise mode skips the special cases that cannot occur).
 #if defined(SL_BUILTIN_POW)
 // PoCL's own pow and powr
+#define pow_nonneg(x, y) pow((x), (y))
 #elif defined(SL_FAST)
 #undef pow
 #undef powr
 #define pow(x, y) sl_fast_pow((x), (y))
 #define powr(x, y) sl_fast_pow((x), (y))
+#define pow_nonneg(x, y) sl_fast_pow((x), (y))
 #elif defined(SL_POW_CR) && defined(SL_HAVE_POW_CR)
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow_cr((x), (y))
 #define powr(x, y) sl_pow_cr((x), (y))
+#define pow_nonneg(x, y) sl_pow_cr((x), (y))
 #else
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow((x), (y))
 #define powr(x, y) sl_pow((x), (y))
+#define pow_nonneg(x, y) sl_pow_nonneg((x), (y))
 #endif
 
 #endif

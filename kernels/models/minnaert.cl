@@ -38,7 +38,7 @@ SL_INLINE float Minnaert_taper(float c, float eps, float inv_eps) { return c < e
 
 // Minnaert's factor on Lambert, (NoL * NoV)^(k-1), with the limb guard: symmetric in NoL and NoV (reciprocal).
 SL_INLINE float Minnaert_limb(float NoL, float NoV, float k_minus_1, float eps, float inv_eps) {
-    return pow(fmax(NoL, eps) * fmax(NoV, eps), k_minus_1) * Minnaert_taper(NoL, eps, inv_eps) *
+    return pow_nonneg(fmax(NoL, eps) * fmax(NoV, eps), k_minus_1) * Minnaert_taper(NoL, eps, inv_eps) *
            Minnaert_taper(NoV, eps, inv_eps);
 }
 
@@ -50,7 +50,7 @@ SL_INLINE float Fd_MinnaertUnity(float NoL, float NoV, float k) { return sl_satu
 // Blender 2.4x Minnaert_Diff, d <= 1 ("The Real model"): Minnaert's factor (nv nl)^(d-1) with nv nl clamped
 // at 0.1, Blender's own guard against the limb singularity (seed 002). nv = max(NoV, 0) as in Blender.
 SL_INLINE float Minnaert_blender_real(float NoL, float nv, float d_minus_1) {
-    return pow(fmax(nv * NoL, 0.1f), d_minus_1);
+    return pow_nonneg(fmax(nv * NoL, 0.1f), d_minus_1);
 }
 
 // Blender 2.4x Minnaert_Diff, d > 1 ("Nvidia model"): (1.001 - nv)^(d-1), darkening where the surface faces

@@ -41,7 +41,7 @@ SL_INLINE float BlinnPhong_NoH(sl_v3 N, sl_v3 L, sl_v3 V) {
 // (see the exponent conventions above). Guard: float rounding of unit float vectors gives x up to
 // 1 + ~3e-7 where mathematically x <= 1; x^10000 would then exceed the lobe's peak by ~0.3%, so x is
 // clamped to 1.
-SL_INLINE float Spec_Power(float x, float n) { return x > 0.0f ? pow(fmin(x, 1.0f), n) : 0.0f; }
+SL_INLINE float Spec_Power(float x, float n) { return x > 0.0f ? pow_nonneg(fmin(x, 1.0f), n) : 0.0f; }
 
 // The highlight only where the light is in front of the surface (the reference forms): 1 for NoL > 0.
 SL_INLINE float Spec_Gate(float NoL) { return NoL > 0.0f ? 1.0f : 0.0f; }

@@ -152,7 +152,7 @@ SL_INLINE float Pho_Minnaert(float mu0, float mu, float k) {
     // AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
     const float mu_after = sl_after(mu, fmin(fabs(taper0), 1.0f));
     const float taper = taper0 * (mu_after < eps ? mu_after / eps : 1.0f);
-    return mu0 * pow(fmax(mu0, eps) * fmax(mu_after, eps), k - 1.0f) * taper;
+    return mu0 * pow_nonneg(fmax(mu0, eps) * fmax(mu_after, eps), k - 1.0f) * taper;
 }
 
 // ---- Hapke's terms (Hapke 1981 JGR 86:3039; 1984 Icarus 59:41; 1986 Icarus 67:264; Hapke 1993, ch. 8-12) ----
