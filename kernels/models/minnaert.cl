@@ -45,7 +45,9 @@ SL_INLINE float Minnaert_limb(float NoL, float NoV, float k_minus_1, float eps, 
 // Seeds 000/001: saturate(NoL * pow(NoL * NoV, k)) with NoL, NoV already max(0, .)-clamped as the seeds do.
 // For k < 0 the product's power exceeds 1 near the limb and the saturate clips it (pow(0, k < 0) = +inf,
 // NoL * inf = inf, saturate -> 1: the seeds' value at and behind the limb; docs measure how often it clips).
-SL_INLINE float Fd_MinnaertUnity(float NoL, float NoV, float k) { return sl_saturate(NoL * pow(NoL * NoV, k)); }
+SL_INLINE float Fd_MinnaertUnity(float NoL, float NoV, float k) {
+    return sl_saturate(NoL * pow_nonneg(NoL * NoV, k));
+}
 
 // Blender 2.4x Minnaert_Diff, d <= 1 ("The Real model"): Minnaert's factor (nv nl)^(d-1) with nv nl clamped
 // at 0.1, Blender's own guard against the limb singularity (seed 002). nv = max(NoV, 0) as in Blender.
@@ -56,16 +58,18 @@ SL_INLINE float Minnaert_blender_real(float NoL, float nv, float d_minus_1) {
 // Blender 2.4x Minnaert_Diff, d > 1 ("Nvidia model"): (1.001 - nv)^(d-1), darkening where the surface faces
 // the viewer. 1.001 - nv is computed as 0.001 + (1 - nv) (see Minnaert_one_minus_NoV).
 SL_INLINE float Minnaert_blender_nvidia(float one_minus_nv, float d_minus_1) {
-    return pow(0.001f + one_minus_nv, d_minus_1);
+    return pow_nonneg(0.001f + one_minus_nv, d_minus_1);   // one_minus_nv >= 0 (Minnaert_one_minus_NoV, or 1)
 }
 
 // Seed 002's MinnaertB factor on Lambert: NoL^k * (1 - NoV)^(1-k). pow(0, 0) = 1 at k = 1, V = N (the limit).
 // Returned times a (the caller's NoL) as (a NoL^k) (1 - NoV)^(1-k), the second power after the first
 // (common.cl's sl_after): the two powers, with exponents next to each other in the constants, are what LLVM's
 // SLP vectoriser pairs into one <2 x float> computation, which stops the loop vectoriser.
+// For NoL > 0 and one_minus_NoV >= 0 (Minnaert_one_minus_NoV, or 1): the caller selects 0 where NoL <= 0, so the
+// base max(NoL, 0) changes no value it keeps and lets both powers skip pow's tests for a negative or NaN base.
 SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, float k, float one_minus_k) {
-    const float first = a * pow(NoL, k);
-    return first * pow(sl_after(one_minus_NoV, first), one_minus_k);
+    const float first = a * pow_nonneg(fmax(NoL, 0.0f), k);
+    return first * pow_nonneg(sl_after(one_minus_NoV, first), one_minus_k);
 }
 
 // ---- models -------------------------------------------------------------------------------------------
