@@ -441,6 +441,21 @@ __kernel void pow_probe(__global const float* x, __global const float* y, __glob
 }
 )CL";
 
+// pow_probe's form f (0 sl_pow_cr, 1 sl_pow, 2 sl_fast_pow, 3 sl_pow_nonneg) of every (X[i], Y[i]).
+std::vector<float> run_pow_probe(cl_uint f, const std::vector<float>& X, const std::vector<float>& Y) {
+    const cl::Program prog = build_source(kPowProbe, build_options({}, Shader::options_for(Precision::Precise)));
+    const std::size_t n = X.size();
+    cl::Buffer bx = read_only(X), by = read_only(Y);
+    cl::Buffer bout(runtime().context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Kernel k(prog, "pow_probe");
+    k.setArg(0, bx); k.setArg(1, by); k.setArg(2, bout); k.setArg(3, cl_uint(n)); k.setArg(4, f);
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, Shader::kLocalSize)),
+                                           cl::NDRange(Shader::kLocalSize));
+    std::vector<float> out(n);
+    runtime().queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
+    return out;
+}
+
 struct PowForm {
     const char* name;
     double measured[3], bound[3];   // max ulp per result class (below), measured when the bound was set; asserted
@@ -487,18 +502,10 @@ TEST_CASE("the three pows (sl_pow_cr, sl_pow, sl_fast_pow) - dense sweep against
         Y.push_back(c[1]);
     }
     const std::size_t n = X.size();
-    cl::Program prog = build_source(kPowProbe, build_options({}, Shader::options_for(Precision::Precise)));
-    cl::Buffer bx = read_only(X), by = read_only(Y);
-    cl::Buffer bout(runtime().context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
     std::cout << "the three pows: " << nsweep << " pairs (" << xs.size() << " bases x " << ys.size() << " exponents)\n";
     for (cl_uint f = 0; f < 3; ++f) {
         const PowForm& form = kPowForms[f];
-        cl::Kernel k(prog, "pow_probe");
-        k.setArg(0, bx); k.setArg(1, by); k.setArg(2, bout); k.setArg(3, cl_uint(n)); k.setArg(4, f);
-        runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, Shader::kLocalSize)),
-                                               cl::NDRange(Shader::kLocalSize));
-        std::vector<float> out(n);
-        runtime().queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
+        const std::vector<float> out = run_pow_probe(f, X, Y);
         if (f == 0 && out[nsweep] == -1.0f) {
             std::cout << "  sl_pow_cr: not built (no cl_khr_fp64 on this device)\n";
             continue;
@@ -572,19 +579,7 @@ TEST_CASE("sl_pow_nonneg equals sl_pow bit for bit for finite x >= 0 and finite 
             Y.push_back(y);
         }
     const std::size_t n = X.size();
-    cl::Program prog = build_source(kPowProbe, build_options({}, Shader::options_for(Precision::Precise)));
-    cl::Buffer bx = read_only(X), by = read_only(Y);
-    cl::Buffer bout(runtime().context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
-    auto run = [&](cl_uint f) {
-        cl::Kernel k(prog, "pow_probe");
-        k.setArg(0, bx); k.setArg(1, by); k.setArg(2, bout); k.setArg(3, cl_uint(n)); k.setArg(4, f);
-        runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, Shader::kLocalSize)),
-                                               cl::NDRange(Shader::kLocalSize));
-        std::vector<float> out(n);
-        runtime().queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
-        return out;
-    };
-    const std::vector<float> full = run(1), nonneg = run(3);
+    const std::vector<float> full = run_pow_probe(1, X, Y), nonneg = run_pow_probe(3, X, Y);
     std::size_t differ = 0, first = n, infinite = 0;
     for (std::size_t i = 0; i < n; ++i) {
         std::uint32_t a, b;
