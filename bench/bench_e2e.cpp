@@ -442,11 +442,6 @@ void shadelab_frame(const Mesh& mesh, const Scene& s, int w, int h, Shader& shad
 
 constexpr int kMaxFrames = 200;
 
-// Whether to time another frame (or round of frames): fewer than `frames` done, or less than min_ms spent so far.
-bool another_frame(int frames, double min_ms, int done, double spent_ms) {
-    return done < frames || (spent_ms < min_ms && done < kMaxFrames);
-}
-
 // The rasteriser alone on 1 and on kThreads threads (best of `frames` frames and min_ms each, interleaved): how
 // its threads scale, with its stages. The bar is 2 threads >= 1.7x one thread on an idle machine. Each thread count
 // rasterises into a buffer of its own kept from frame to frame, as the frame does (a fresh buffer's page faults,
@@ -456,7 +451,8 @@ void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int fr
     double best_ms[2] = {1e30, 1e30}, spent = 0.0;
     const int counts[2] = {1, kThreads};
     FragmentBuffer kept[2];
-    for (int f = 0; f < 3 || another_frame(frames, min_ms, f, spent); ++f)
+    const bench::Repeats rounds{std::max(3, frames), min_ms, kMaxFrames};
+    for (int f = 0; rounds.again(f, spent); ++f)
         for (int k = 0; k < 2; ++k) {
             RasterOptions ro;
             ro.width = w;
@@ -643,9 +639,9 @@ ModelFrames time_model(const Options& o, const std::string& glsl_dir, Shader& sh
     // swap places every round: the shadelab frame right after llvmpipe's found the rasteriser's pool threads
     // asleep (they sleep after 50 us without work) and, in a fixed order, lambert precise ran 1.56-1.69 ms where
     // lambert fast, the same code, ran 1.50-1.53 (spot, 512x512).
+    const bench::Repeats rounds{o.frames, o.min_ms, kMaxFrames};
     double spent = 0.0;
-    int frames = 0;
-    for (; another_frame(o.frames, o.min_ms, frames, spent); ++frames) {
+    for (int frames = 0; rounds.again(frames, spent); ++frames) {
         const auto t0 = clock_type::now();
         const GlTimes g = gl_frame(gl_mesh, target, rgba);
         if (g.total < fr.gl_best.total) fr.gl_best = g;

@@ -82,21 +82,7 @@ constexpr std::size_t kStreamTargetSize = std::size_t(1) << 24;
 // also reads the position (36 bytes).
 double bytes_per_fragment(const ModelInfo& model) { return model.normals_only ? 24.0 : 36.0; }
 
-// How many timed runs make a best-of: at least `at_least`, and more while the runs so far took under `min_ms`
-// (at most `at_most`). A best of 3 at 1M fragments (a 1.5 ms kernel) caught a burst of load in one run of two:
-// phong 394-468 Mfrag/s with 3 runs, 712-734 with 30 in the same sitting. Every timed quantity of a row (STREAM,
-// each mode, the C++ loop) gets the same rule, so the ratios compare like with like.
-struct Repeats {
-    int at_least = 3;
-    double min_ms = 100.0;
-    int at_most = 40;
-    bool again(int done, double spent_ms) const { return done < at_least || (spent_ms < min_ms && done < at_most); }
-    std::string describe() const {
-        return min_ms > 0.0 ? "at least " + std::to_string(at_least) + " runs and " + std::to_string(int(min_ms)) +
-                                  " ms (at most " + std::to_string(at_most) + " runs)"
-                            : std::to_string(at_least) + " runs";
-    }
-};
+using bench::Repeats;   // bench_util.hpp: the best-of rule (bench_e2e's too)
 
 struct Options {
     std::vector<std::size_t> sizes = {1u << 20, 1u << 22, 1u << 24};
