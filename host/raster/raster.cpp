@@ -960,8 +960,9 @@ RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at) 
     const bool ids = a.triangle != nullptr;   // else b1, b2 and triangle stay null: nothing is stored there
     return RunView{a.px + at, a.py + at, a.pz + at, a.nx + at, a.ny + at, a.nz + at, a.depth + at,
                    ids ? a.b1 + at : nullptr, ids ? a.b2 + at : nullptr, a.pixel + at, ids ? a.triangle + at : nullptr,
-                   r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2], r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0, c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y,
-                   c.forward.z, c.flip, r.mesh_triangle, std::int32_t(std::size_t(y) * std::size_t(c.width))};
+                   r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2], r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0,
+                   c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y, c.forward.z, c.flip, r.mesh_triangle,
+                   std::int32_t(std::size_t(y) * std::size_t(c.width))};
 }
 
 // One block's fragments, computed in the calling thread's own arrays (which alias nothing, so the lane loop
