@@ -14,7 +14,8 @@
 //            LLVM remarks PoCL prints with POCL_VECTORIZER_REMARKS=1 while it compiles the kernel (the kernel
 //            cache is switched off for that, POCL_KERNEL_CACHE=0, so every program is really compiled; --no-vec
 //            skips it). "16" = vectorised 16 wide (8 for the models of N and L only, Shader::lanes_for, and on
-//            AVX2 hosts); "no: <reason>" = LLVM's reason for running one fragment at a time.
+//            AVX2 hosts), "16x2" with two chains (interleaved twice, Shader::chains_for); "no: <reason>" =
+//            LLVM's reason for running one fragment at a time.
 // Targets (figures, never assertions; issue #13): cheap models (lambert, half_lambert, banded, toon) >= 0.8 of
 // STREAM; every model >= 0.25 of STREAM at 16M fragments; models that call transcendental functions, in
 // precise mode, >= 5x the C++ loop; fast mode >= 1.3x precise where the two modes are different programs and
@@ -224,10 +225,11 @@ std::string capture_output(F&& f) {
 }
 
 // The loop vectoriser's verdict from PoCL's remarks for one kernel compilation whose fragment loop has `lanes`
-// lanes (Shader::lanes_for): "16" when the fragment loop, or with one lane PoCL's work-item loop, was vectorised
-// 16 wide; "no: <first reason>" when no loop was; "8/no: <reason>" when some were ("?" if it printed no remark
-// on a loop, e.g. the kernel came from a cache).
-std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes) {
+// lanes (Shader::lanes_for) and `chains` chains (Shader::chains_for): "16" when the fragment loop, or with one
+// lane PoCL's work-item loop, was vectorised 16 wide, "16x2" when it was also interleaved twice as asked, and
+// "16/no: not interleaved" when it was asked to be and was not; "no: <first reason>" when no loop was;
+// "8/no: <reason>" when some were ("?" if it printed no remark on a loop, e.g. the kernel came from a cache).
+std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes, std::size_t chains) {
     std::set<std::string> widths;
     std::string reason;
     const std::string vec = "vectorized loop (vectorization width: ", novec = "loop not vectorized: ";
@@ -241,7 +243,12 @@ std::string vectoriser_verdict(const std::string& remarks, std::size_t lanes) {
     // ("instruction return type cannot be vectorized", "already vectorized"), which is no refusal.
     std::string w;
     for (const auto& x : widths) w += (w.empty() ? "" : ",") + x;
-    if (lanes > 1 && widths.count(std::to_string(lanes))) return w;
+    if (lanes > 1 && widths.count(std::to_string(lanes))) {
+        if (chains <= 1) return w;
+        const std::string ic = "vectorization width: " + std::to_string(lanes) +
+                               ", interleaved count: " + std::to_string(chains) + ")";
+        return remarks.find(ic) != std::string::npos ? w + "x" + std::to_string(chains) : w + "/no: not interleaved";
+    }
     const std::string already = "vectorization and interleaving are explicitly disabled, or the loop has already";
     std::size_t p = remarks.find(novec);
     while (p != std::string::npos && remarks.compare(p + novec.size(), already.size(), already) == 0)
@@ -559,7 +566,8 @@ int main(int argc, char** argv) {
                     const std::string key = info.name + "/" + precision_name(opt.modes[k]);
                     if (opt.vec_report && !vec_of.count(key)) {
                         const std::string remarks = capture_output([&] { outs[k] = shader.shade(fb, setups[k]); });
-                        vec_of[key] = vectoriser_verdict(remarks, Shader::lanes_for(info.normals_only, rt.vector_width()));
+                        const std::size_t lanes = Shader::lanes_for(info.normals_only, rt.vector_width());
+                        vec_of[key] = vectoriser_verdict(remarks, lanes, lanes > 1 ? Shader::chains_for(info) : 1);
                     } else {
                         outs[k] = shader.shade(fb, setups[k]);
                     }

@@ -128,14 +128,24 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // SL_MAX_LANES caps it for one program: the host builds the shade programs of the models that read normals only
 // with SL_MAX_LANES=8 (host/shade/shader.hpp, Shader::lanes_for, says why) and launches them accordingly.
 #if defined(SL_MAX_LANES) && SL_MAX_LANES < SL_VECTOR_WIDTH
-#define SL_FRAGS_PER_ITEM SL_MAX_LANES
+#define SL_LANES SL_MAX_LANES
 #else
-#define SL_FRAGS_PER_ITEM SL_VECTOR_WIDTH
+#define SL_LANES SL_VECTOR_WIDTH
 #endif
+// SL_CHAINS=2: the loop is also interleaved twice, two independent chains of SL_LANES lanes through the model, so
+// that one chain's instructions fill the other's latency; a work-item then shades 2 SL_LANES fragments. The host
+// asks for it for the models whose arithmetic is a long latency-bound chain (ModelInfo::chains, measured per
+// model: docs/speed.md; Shader::frags_per_item). With one lane there is no fragment loop, and no second chain.
+#if defined(SL_CHAINS) && SL_CHAINS > 1 && SL_LANES > 1
+#define SL_CHAINS_PER_ITEM SL_CHAINS
+#else
+#define SL_CHAINS_PER_ITEM 1
+#endif
+#define SL_FRAGS_PER_ITEM (SL_LANES * SL_CHAINS_PER_ITEM)
 #define SL_PRAGMA_(x) _Pragma(#x)
 #define SL_PRAGMA(x) SL_PRAGMA_(x)
-#if SL_FRAGS_PER_ITEM > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
-#define SL_FRAGMENT_LOOP SL_PRAGMA(clang loop vectorize_width(SL_FRAGS_PER_ITEM) interleave_count(1))
+#if SL_LANES > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
+#define SL_FRAGMENT_LOOP SL_PRAGMA(clang loop vectorize_width(SL_LANES) interleave_count(SL_CHAINS_PER_ITEM))
 #else
 #define SL_FRAGMENT_LOOP
 #endif

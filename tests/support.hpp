@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -26,6 +27,17 @@
 #include "sweep.hpp"
 
 namespace shadelab::test {
+
+// Sets (or, with nullptr, unsets) an environment variable for the scope of one test.
+struct ScopedEnv {
+    std::string name, old;
+    bool had = false;
+    ScopedEnv(const char* n, const char* v) : name(n) {
+        if (const char* o = std::getenv(n)) { had = true; old = o; }
+        v ? (void)::setenv(n, v, 1) : (void)::unsetenv(n);
+    }
+    ~ScopedEnv() { had ? (void)::setenv(name.c_str(), old.c_str(), 1) : (void)::unsetenv(name.c_str()); }
+};
 
 // The folders the build names: the source tree, example scenes, bundled meshes, test data. The paths come from
 // tests/paths.cpp, the one test file compiled with the build's paths, so that the other test files do not

@@ -27,16 +27,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Sets (or, with nullptr, unsets) an environment variable for the scope of one test.
-struct ScopedEnv {
-    std::string name, old;
-    bool had = false;
-    ScopedEnv(const char* n, const char* v) : name(n) {
-        if (const char* o = std::getenv(n)) { had = true; old = o; }
-        v ? (void)::setenv(n, v, 1) : (void)::unsetenv(n);
-    }
-    ~ScopedEnv() { had ? (void)::setenv(name.c_str(), old.c_str(), 1) : (void)::unsetenv(name.c_str()); }
-};
+using test::ScopedEnv;
 
 struct Loaded {
     Mesh mesh;

@@ -17,19 +17,7 @@
 using namespace shadelab;
 namespace fs = std::filesystem;
 
-namespace {
-// Sets an environment variable for the scope of one test.
-struct ScopedEnv {
-    std::string name;
-    std::string old;
-    bool had = false;
-    ScopedEnv(const char* n, const char* v) : name(n) {
-        if (const char* o = std::getenv(n)) { had = true; old = o; }
-        setenv(n, v, 1);
-    }
-    ~ScopedEnv() { had ? (void)setenv(name.c_str(), old.c_str(), 1) : (void)unsetenv(name.c_str()); }
-};
-}  // namespace
+using test::ScopedEnv;
 
 TEST_CASE("runtime picks the PoCL CPU device by default", "[runtime]") {
     Runtime rt;

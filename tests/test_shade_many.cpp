@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <set>
+#include <utility>
 
 #include "cl/runtime.hpp"
 #include "models/catalogue.hpp"
@@ -50,6 +52,12 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
     return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
 }
 
+// The models whose fast build is other code than their precise one: those that call pow (common.cl, pow_nonneg).
+bool fast_is_other_code(const ModelInfo& info) {
+    return info.name.find("phong") != std::string::npos || info.name.find("minnaert") != std::string::npos ||
+           info.name == "toon";
+}
+
 // One model of each of several families (skipped when the catalogue has no such model).
 std::vector<std::string> family_models() {
     std::vector<std::string> out;
@@ -81,11 +89,15 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
                 for (const auto& name : models) mats.push_back(default_of(name));
                 const std::size_t before = rt.programs_built();
                 REQUIRE(shared.prepare_many(mats, *lights, p, dispatch) == models.size());
-                // one program for them all, or two: the normals-only models' programs take fewer lanes
-                // (Shader::lanes_for), and a program's models share its lanes
-                std::size_t narrow = 0;
-                for (const Material& m : mats) narrow += find_model(m.model).normals_only ? 1 : 0;
-                const std::size_t programs = narrow > 0 && narrow < mats.size() ? 2 : 1;
+                // one program for each kind of work-item among them: the normals-only models' programs take
+                // fewer lanes (Shader::lanes_for), the two-chain models' two chains (Shader::chains_for), and a
+                // program's models share its lanes and chains
+                std::set<std::pair<bool, std::size_t>> kinds;
+                for (const Material& m : mats) {
+                    const ModelInfo& info = find_model(m.model);
+                    kinds.insert({info.normals_only, Shader::chains_for(info)});
+                }
+                const std::size_t programs = kinds.size();
                 CHECK(rt.programs_built() == before + programs);
                 for (const Material& m : mats) {
                     INFO("model " << m.model << ", " << precision_name(p) << ", " << lights->size() << " light(s)"
@@ -177,9 +189,7 @@ TEST_CASE("shade: the fragment loop at the device's vector width gives one-fragm
     for (const auto& info : model_catalogue()) {
         const Material m = default_of(info.name);
         for (Precision p : {Precision::Precise, Precision::Fast}) {
-            if (p == Precision::Fast && info.name.find("phong") == std::string::npos &&
-                info.name.find("minnaert") == std::string::npos && info.name != "toon")
-                continue;
+            if (p == Precision::Fast && !fast_is_other_code(info)) continue;
             INFO("model " << m.model << ", " << precision_name(p));
             const std::vector<float> x = a.shade(fb, setup_of(m, kDirectionalAndPoint, p));
             const std::vector<float> y = b.shade(fb, setup_of(m, kDirectionalAndPoint, p));
@@ -195,18 +205,24 @@ TEST_CASE("shade: a work-group size that is not a multiple of the vector width i
           "[shade][vector_width]") {
     Runtime rt(RuntimeOptions{"", -1, "", "off", 16});
     Shader shader(rt);
-    ShadeSetup s = setup_of(default_of("phong"), kOneDirectional, Precision::Precise);
-    s.local_size = 24;
-    REQUIRE_THROWS_WITH(shader.shade(random_fragments(100, 3), s),
-                        Catch::Contains("work-group size 24") && Catch::Contains("multiple of the 16 fragments"));
-    s.local_size = 32;
-    CHECK(shader.shade(random_fragments(100, 3), s).size() == 300);
-    // Lambert reads normals only: 8 fragments a work-item (Shader::lanes_for), so 24 is a whole number of them
-    ShadeSetup l = setup_of(default_of("lambert"), kOneDirectional, Precision::Precise);
-    l.local_size = 12;
-    CHECK_THROWS_WITH(shader.shade(random_fragments(100, 3), l), Catch::Contains("multiple of the 8 fragments"));
-    l.local_size = 24;
-    CHECK(shader.shade(random_fragments(100, 3), l).size() == 300);
+    // Oren-Nayar: one chain of 16 lanes. Half-Lambert reads normals only: 8 fragments a work-item
+    // (Shader::lanes_for), so 24 is a whole number of them. Phong runs two chains of 16 lanes (Shader::chains_for).
+    const struct {
+        const char* model;
+        int chains;
+        std::size_t per_item, refused, taken;   // fragments a work-item, a work-group size refused, one taken
+    } cases[] = {{"oren_nayar", 1, 16, 24, 32}, {"half_lambert", 1, 8, 12, 24}, {"phong", 2, 32, 48, 64}};
+    for (const auto& c : cases) {
+        INFO("model " << c.model);
+        REQUIRE(find_model(c.model).chains == c.chains);
+        ShadeSetup s = setup_of(default_of(c.model), kOneDirectional, Precision::Precise);
+        s.local_size = c.refused;
+        REQUIRE_THROWS_WITH(shader.shade(random_fragments(100, 3), s),
+                            Catch::Contains("work-group size " + std::to_string(c.refused)) &&
+                                Catch::Contains("multiple of the " + std::to_string(c.per_item) + " fragments"));
+        s.local_size = c.taken;
+        CHECK(shader.shade(random_fragments(100, 3), s).size() == 300);
+    }
     CHECK_THROWS_WITH(Runtime(RuntimeOptions{"", -1, "", "off", 3}), Catch::Contains("vector width 3"));
 }
 
@@ -235,7 +251,45 @@ TEST_CASE("shade: the models marked normals-only are those whose pixels do not d
         CHECK(same == info.normals_only);
         CHECK(Shader::lanes_for(info.normals_only, 16) == (info.normals_only ? Shader::kNormalsOnlyLanes : 16));
         CHECK(Shader::lanes_for(info.normals_only, 4) == 4);
+        CHECK(Shader::frags_per_item(info, 16) ==
+              Shader::lanes_for(info.normals_only, 16) * std::size_t(info.chains > 1 ? 2 : 1));
+        CHECK(Shader::frags_per_item(info, 1) == 1);   // no fragment loop at one lane: no second chain
         marked += info.normals_only ? 1 : 0;
     }
     CHECK(marked >= 8);   // Lambert, the wrap family, banded
+}
+
+// Two chains a work-item (kernels/common.cl, SL_CHAINS; ModelInfo::chains chooses per model): the loop interleaved
+// twice over 2 x lanes fragments gives the pixels of one chain, bit for bit, for every model of the catalogue (and
+// fast mode where it is other code), with a tail and two lights. SHADELAB_CHAINS sets the chains of every model,
+// as for measuring the choice; a value of it other than 1 or 2 is refused with one line.
+TEST_CASE("shade: two chains a work-item give one chain's pixels, bit for bit, for every model",
+          "[shade][vector_width]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    const FragmentBuffer fb = random_fragments(1000, 17);
+    std::size_t compared = 0;
+    for (const auto& info : model_catalogue())
+        for (Precision p : {Precision::Precise, Precision::Fast}) {
+            if (p == Precision::Fast && !fast_is_other_code(info)) continue;
+            INFO("model " << info.name << ", " << precision_name(p) << ", device width " << rt.vector_width());
+            const ShadeSetup s = setup_of(default_of(info.name), kDirectionalAndPoint, p);
+            std::vector<float> one, two;
+            {
+                test::ScopedEnv env("SHADELAB_CHAINS", "1");
+                CHECK(Shader::frags_per_item(info, 16) == Shader::lanes_for(info.normals_only, 16));
+                one = Shader(rt).shade(fb, s);
+            }
+            {
+                test::ScopedEnv env("SHADELAB_CHAINS", "2");
+                CHECK(Shader::frags_per_item(info, 16) == 2 * Shader::lanes_for(info.normals_only, 16));
+                two = Shader(rt).shade(fb, s);
+            }
+            REQUIRE(one.size() == 3 * fb.size());
+            CHECK(same_bits(one, two));
+            ++compared;
+        }
+    CHECK(compared > model_catalogue().size());
+    test::ScopedEnv env("SHADELAB_CHAINS", "3");
+    CHECK_THROWS_WITH(Shader::chains_for(model_catalogue().front()),
+                      Catch::Contains("SHADELAB_CHAINS is '3'") && Catch::Contains("use 1 or 2"));
 }

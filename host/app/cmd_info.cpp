@@ -88,6 +88,14 @@ void print_catalogue() {
     }
 }
 
+// The models shaded with two chains a work-item (Shader::chains_for), comma-separated, or "none".
+std::string two_chain_models() {
+    std::string out;
+    for (const auto& info : model_catalogue())
+        if (Shader::chains_for(info) > 1) out += (out.empty() ? "" : ", ") + info.name;
+    return out.empty() ? "none" : out;
+}
+
 }  // namespace
 
 void require_model_name(const std::string& name, const std::string& option) {
@@ -131,6 +139,8 @@ void add_devices_command(CLI::App& app) {
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
                   << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only\n"
+                  << "chains:  two chains of lanes a work-item, twice the fragments, for " << two_chain_models()
+                  << " (SHADELAB_CHAINS=1 or 2 sets every model's)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
 }

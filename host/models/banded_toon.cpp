@@ -138,6 +138,9 @@ ModelFamily register_banded_toon_family() {
         banded_seed001_model(),
         toon_model(),
     };
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"banded", "banded_seed001", "toon"});
     return family;
 }
 

@@ -39,6 +39,16 @@ const std::vector<ModelFamily>& model_families() {
     return all;
 }
 
+void use_two_chains(ModelFamily& family, const std::vector<std::string>& names) {
+    for (const std::string& name : names) {
+        const auto it = std::find_if(family.models.begin(), family.models.end(),
+                                     [&](const ModelInfo& m) { return m.name == name; });
+        if (it == family.models.end())
+            throw Error("internal: family '" + family.name + "' has no model '" + name + "' to give two chains");
+        it->chains = 2;
+    }
+}
+
 const std::vector<ModelInfo>& model_catalogue() {
     static const std::vector<ModelInfo> all = [] {
         std::vector<ModelInfo> v;

@@ -102,6 +102,11 @@ struct ModelInfo {
     // its arithmetic is a few operations, and it runs at memory speed. Such models are shaded at no more than
     // kNormalsOnlyLanes fragments a work-item (host/shade/shader.hpp, lanes_for); bench_models counts their bytes.
     bool normals_only = false;
+    // Independent chains of lanes a shading work-item runs through the model (kernels/common.cl, SL_CHAINS): 2 for
+    // the models whose arithmetic is a long latency-bound chain, where a second chain fills the first's waits; 1
+    // for the others, which a second chain slowed (the models near memory speed). Chosen by measuring each model
+    // at both (docs/speed.md, "Two chains"); Shader::frags_per_item.
+    int chains = 1;
     std::vector<PrecisionBound> precision;   // kernel vs reference, both modes (see PrecisionBound)
     std::string doc;       // its documentation page from the repository root (set from its family's)
 };
@@ -117,6 +122,10 @@ struct ModelFamily {
 
 // Every registered family, by rank.
 const std::vector<ModelFamily>& model_families();
+
+// Sets ModelInfo::chains = 2 for the named models of `family` (its registration's last step); throws
+// shadelab::Error for a name that is not one of its models.
+void use_two_chains(ModelFamily& family, const std::vector<std::string>& names);
 
 // Every model, family by family (by rank), each family's in its registered order.
 const std::vector<ModelInfo>& model_catalogue();

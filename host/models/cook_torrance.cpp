@@ -78,6 +78,9 @@ ModelFamily register_cook_torrance_family() {
         "cook_torrance_seed004_eval", "seed 004 (lecture slides), as written",
         // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
         {{"*", 1.00e-5, 3e-5, 1.00e-5, 3e-5}, {"m=0.02", 7.82e-4, 2e-3, 7.82e-4, 2e-3}});
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"cook_torrance", "cook_torrance_exact_fresnel", "cook_torrance_seed004"});
     return family;
 }
 

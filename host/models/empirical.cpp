@@ -100,6 +100,9 @@ ModelFamily register_empirical_family() {
         m.precision = {{"*", 8.76e-7, 2.5e-6, 8.76e-7, 2.5e-6}};   // as above
         family.models.push_back(m);
     }
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"lunar_lambert_empirical", "minnaert_empirical"});
     return family;
 }
 

@@ -19,6 +19,9 @@ ModelFamily register_lambert_family() {
     // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
     m.precision = {{"*", 7.33e-7, 2e-6, 7.33e-7, 2e-6}};
     out.push_back(m);
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"lambert"});
     return family;
 }
 

@@ -139,6 +139,9 @@ ModelFamily register_minnaert_family() {
         minnaert_b_model(),
         minnaert_normalized_model(),
     };
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"minnaert_1941", "minnaert_b", "minnaert_blender", "minnaert_normalized"});
     return family;
 }
 

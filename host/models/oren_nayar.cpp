@@ -269,6 +269,9 @@ ModelFamily register_oren_nayar_family() {
         eon_model(),
         eon_approx_model(),
     };
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"oren_nayar_blender"});
     return family;
 }
 

@@ -195,6 +195,10 @@ ModelFamily register_phong_family() {
         blinn_phong_normalized_model(),
         blinn_phong_normalized_approx_model(),
     };
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"phong", "phong_normalized", "phong_seed001", "blinn_phong", "blinn_phong_normalized",
+                            "blinn_phong_normalized_approx", "blinn_phong_seed001"});
     return family;
 }
 

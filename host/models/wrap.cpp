@@ -94,6 +94,9 @@ ModelFamily register_wrap_family() {
         m.precision = {{"*", 7.33e-7, 2e-6, 7.33e-7, 2e-6}};
         out.push_back(m);
     }
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains")
+    use_two_chains(family, {"half_lambert_seed001", "wrap", "wrap_energy", "wrap_seed001"});
     return family;
 }
 

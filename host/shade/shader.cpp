@@ -5,8 +5,10 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <set>
+#include <utility>
 
 #include "consts/scene.h"   // DeviceLight, DeviceView, shared with kernels/shade.cl
 #include "core/error.hpp"
@@ -154,15 +156,17 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
         if (many_.count(key) || !seen.insert(key).second) continue;
         todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
     }
-    // A program's models share its fragments a work-item (SL_MAX_LANES): the normals-only models go together.
-    std::stable_partition(todo.begin(), todo.end(), [](const Todo& t) { return t.info->normals_only; });
+    // A program's models share its fragments a work-item (SL_MAX_LANES, SL_CHAINS): the models of one lanes and
+    // chains go together.
+    const auto kind = [](const Todo& t) { return std::make_pair(t.info->normals_only, chains_for(*t.info)); };
+    std::stable_sort(todo.begin(), todo.end(), [&](const Todo& a, const Todo& b) { return kind(a) < kind(b); });
     std::map<std::string, SharedKernel> added;
     for (std::size_t b = 0; b < todo.size();) {   // programs of up to kManyModels models and kManyHeaders files
         std::vector<const ModelInfo*> models;
         std::set<std::string> headers;
         std::size_t e = b;
         for (; e < todo.size() && models.size() < kManyModels; ++e) {
-            if (todo[e].info->normals_only != todo[b].info->normals_only) break;
+            if (kind(todo[e]) != kind(todo[b])) break;
             headers.insert(todo[e].info->header);
             if (headers.size() > kManyHeaders) break;
             models.push_back(todo[e].info);
@@ -227,13 +231,30 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
     // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
     if (all_lights_directional(lights)) defines.push_back("SL_ALL_DIRECTIONAL=1");
-    if (find_model(mat.model).normals_only)   // Shader::lanes_for
+    const ModelInfo& info = find_model(mat.model);
+    if (info.normals_only)   // Shader::lanes_for
         defines.push_back("SL_MAX_LANES=" + std::to_string(Shader::kNormalsOnlyLanes));
+    if (const std::size_t chains = Shader::chains_for(info); chains > 1)   // Shader::frags_per_item
+        defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return {"shade.cl", defines, Shader::options_for(precision)};
 }
 
 std::size_t Shader::lanes_for(bool normals_only, std::size_t device_width) {
     return normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
+}
+
+std::size_t Shader::chains_for(const ModelInfo& info) {
+    const char* env = std::getenv("SHADELAB_CHAINS");
+    if (!env || !*env) return info.chains > 1 ? 2 : 1;
+    const std::string v = env;
+    if (v != "1" && v != "2")
+        throw Error("SHADELAB_CHAINS is '" + v + "': use 1 or 2 (chains a shading work-item runs), or unset it");
+    return v == "2" ? 2 : 1;
+}
+
+std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
+    const std::size_t lanes = lanes_for(info.normals_only, device_width);
+    return lanes > 1 ? lanes * chains_for(info) : 1;   // kernels/common.cl: no second chain at one lane
 }
 
 namespace {
@@ -348,7 +369,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
     // fragments a work-item: the program's SL_FRAGS_PER_ITEM (kernels/common.cl)
-    const std::size_t per_item = lanes_for(find_model(mat.model).normals_only, rt_.vector_width());
+    const std::size_t per_item = frags_per_item(find_model(mat.model), rt_.vector_width());
     if (group % per_item != 0)
         throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
                     std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
