@@ -165,27 +165,31 @@ SL_INLINE float Hapke_H(float x, float gamma) { return (1.0f + 2.0f * x) / (1.0f
 // 1/h = 0 for h = 0 (ISIS: no surge without a width), so t <= PHO_TAN_MAX keeps 0 * t finite.
 SL_INLINE float Hapke_B(float t, float b0, float inv_h) { return b0 / (1.0f + t * inv_h); }
 
-// Henyey-Greenstein lobe (1 - b^2) / (1 + b^2 +- 2 b cos g)^(3/2) in the phase angle g. The denominator is
-// formed as (1 - |b|)^2 + 2 |b| (1 -+ cos g), a sum of non-negative terms, so that it keeps its digits where it
-// is smallest (|b| -> 1 near g = 0 or 180), instead of 1 + b^2 - 2b cos g, which cancels there.
-// `one_pm_cos` is 1 + cos g or 1 - cos g, whichever the lobe and sign of b call for.
-SL_INLINE float Hapke_HG_lobe(float one_minus_b2, float a, float two_abs_b, float one_pm_cos) {
+// The denominator of a Henyey-Greenstein lobe (1 - b^2) / (1 + b^2 +- 2 b cos g)^(3/2) in the phase angle g,
+// d^(3/2) = d sqrt(d). d is formed as (1 - |b|)^2 + 2 |b| (1 -+ cos g), a sum of non-negative terms, so that it
+// keeps its digits where it is smallest (|b| -> 1 near g = 0 or 180), instead of 1 + b^2 - 2b cos g, which
+// cancels there. `one_pm_cos` is 1 + cos g or 1 - cos g, whichever the lobe and sign of b call for.
+SL_INLINE float Hapke_HG_lobe_den(float a, float two_abs_b, float one_pm_cos) {
     const float d = a + two_abs_b * one_pm_cos;
-    return one_minus_b2 / (d * sqrt(d));
+    return d * sqrt(d);
 }
 
 // ISIS's two-term Henyey-Greenstein phase function (HapkeHen):
 //   P(g) = (1 - c) (1 - b^2) / (1 + b^2 + 2 b cos g)^(3/2) + c (1 - b^2) / (1 + b^2 - 2 b cos g)^(3/2),
 // b = Hg1, c = Hg2. HapkeHG2Consts: a = (1 - |b|)^2, two_abs_b = 2|b|, b_positive = 1 if b >= 0, 1 - b^2, c, 1 - c.
+// The two lobes over one division, (1 - b^2) ((1 - c) D2 + c D1) / (D1 D2) with D1, D2 their denominators
+// (each in [(1 - |b|)^3, (1 + |b|)^3], at least 1e-12 for |b| <= 0.9999: the product cannot underflow).
 SL_INLINE float Hapke_P_HG2(float t, const HapkeHG2Consts* hg) {
     const float a = hg->a, two_abs_b = hg->two_abs_b, b_pos_flag = hg->b_positive, one_minus_b2 = hg->one_minus_b2;
     const float c = hg->c, one_minus_c = hg->one_minus_c;
     float omc;
     const float opc = Pho_one_pm_cos_g(t, &omc);
     const int b_pos = b_pos_flag != 0.0f;
-    const float first = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? opc : omc);    // + 2 b cos g
-    const float second = Hapke_HG_lobe(one_minus_b2, a, two_abs_b, b_pos ? omc : opc);   // - 2 b cos g
-    return one_minus_c * first + c * second;
+    const float d1 = Hapke_HG_lobe_den(a, two_abs_b, b_pos ? opc : omc);   // + 2 b cos g
+    // the second lobe after the first (common.cl's sl_after): two isomorphic lobes are what LLVM's SLP
+    // vectoriser packs into <2 x float>, which stops the work-item loop vectoriser
+    const float d2 = Hapke_HG_lobe_den(a, two_abs_b, sl_after(b_pos ? omc : opc, fmin(d1, 1.0f)));   // - 2 b cos g
+    return one_minus_b2 * (one_minus_c * d2 + c * d1) / (d1 * d2);
 }
 
 // Hapke's (1981) Legendre phase function (HapkeLeg): P(g) = 1 + b cos g + c (3 cos^2 g - 1) / 2.
@@ -206,9 +210,10 @@ SL_INLINE float Hapke_smooth(float mu0, float mu, float w_over_4, float gamma, f
 SL_INLINE float Hapke_E2(float cot_x, float k2) { return Pho_exp(-k2 * cot_x * cot_x); }
 
 // mu_e(0) of a direction at angle x (Hapke 1984, eqs. 48-49):  chi (cos x + sin x tan(theta) E2(x) / (2 - E1(x))),
-// chi = 1 / sqrt(1 + pi tan^2(theta)).
-SL_INLINE float Hapke_eta(float cos_x, float sin_x, float e1, float e2, float chi, float tan_t) {
-    return chi * (cos_x + sin_x * tan_t * e2 / (2.0f - e1));
+// chi = 1 / sqrt(1 + pi tan^2(theta)). `e2_over` is E2(x) / (2 - E1(x)) (Hapke_roughness forms both directions'
+// quotients with one division).
+SL_INLINE float Hapke_eta(float cos_x, float sin_x, float e2_over, float chi, float tan_t) {
+    return chi * (cos_x + sin_x * tan_t * e2_over);
 }
 
 // 1 - exp(-x) for x >= 0 without the cancellation of 1 - Pho_exp(-x) at small x (theta-bar -> 90 deg makes
@@ -232,14 +237,22 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     // Every term of e is computed after the same term of i, and E2 after E1 (common.cl's sl_after): the two
     // chains are isomorphic, and LLVM's SLP vectoriser would otherwise pack them into <2 x float>, which stops
     // PoCL's work-item loop vectoriser (the kernel then runs one geometry at a time: docs/photometry.md, Speed).
-    const float cot_i = g.mu0 / fmax(g.sin_i, 1.0e-10f);
+    // Both cotangents from one division, mu0 s_e / (s_i s_e) and mu s_i / (s_i s_e), s the floored sines (their
+    // product is at least 1e-20, a normal float); and both E2 / (2 - E1) from one, by (1 + (1 - E1(i))) (1 + (1 -
+    // E1(e))), in [1, 4]. Each product's second factor after its first (sl_after): a product of two isomorphic
+    // terms is a reduction the SLP vectoriser packs.
+    const float s_i = fmax(g.sin_i, 1.0e-10f), s_e = fmax(sl_after(g.sin_e, s_i), 1.0e-10f);
+    const float inv_sines = 1.0f / (s_i * s_e);
+    const float cot_i = g.mu0 * s_e * inv_sines;
     const float om1i = Pho_one_minus_exp_neg(k1 * cot_i);   // 1 - E1(i)
     const float e2i = Hapke_E2(sl_after(cot_i, om1i), k2);
-    const float eta_i = Hapke_eta(g.mu0, g.sin_i, 1.0f - om1i, e2i, chi, tan_t);
-    const float cot_e = sl_after(g.mu, eta_i) / fmax(g.sin_e, 1.0e-10f);
+    const float cot_e = sl_after(g.mu, e2i) * s_i * inv_sines;
     const float om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1(e)
     const float e2e = Hapke_E2(sl_after(cot_e, om1e), k2);
-    const float eta_e = Hapke_eta(g.mu, g.sin_e, 1.0f - om1e, e2e, chi, tan_t);
+    const float den_i = 1.0f + om1i, den_e = 1.0f + sl_after(om1e, den_i);   // 2 - E1(i), 2 - E1(e)
+    const float inv_dens = 1.0f / (den_i * den_e);
+    const float eta_i = Hapke_eta(g.mu0, g.sin_i, e2i * den_e * inv_dens, chi, tan_t);
+    const float eta_e = Hapke_eta(g.mu, g.sin_e, e2e * sl_after(den_i, eta_i) * inv_dens, chi, tan_t);
     // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
     const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
     const float inv_1pt2 = 1.0f / (1.0f + t2);
@@ -254,22 +267,20 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     const float one_minus_f = Pho_one_minus_exp_neg(2.0f * tan_half_psi);
     // i <= e and i > e: eqs. 46-47 and 50-51; both are formed and one selected (no branch). i <= e is mu0 > mu,
     // or sin i <= sin e where the float cosines are equal (near i = e = 0, cos rounds to 1 for both)
+    // The two cases differ in which of E1(i), E1(e) and E2(i), E2(e) take which place: the case's terms are
+    // selected first, and the cosines formed once, with one division (both cases formed and one selected took two).
     const int i_le_e = g.mu0 > g.mu || (g.mu0 == g.mu && g.sin_i <= g.sin_e);
-    const float den_ie = om1e + one_minus_psi_over_pi + psi_over_pi * om1i;   // 2 - E1(e) - (psi/pi) E1(i)
-    const float tan_t_over_den_ie = tan_t / den_ie;   // one division for both cosines
-    const float mu0e_ie = chi * (g.mu0 + g.sin_i * tan_t_over_den_ie * (c * e2e + sin2_half_psi * e2i));
-    const float mue_ie = chi * (g.mu + g.sin_e * tan_t_over_den_ie * (e2e - sin2_half_psi * e2i));
-    // the i > e case after the i <= e case (the SLP vectoriser, as above), after min(|mue_ie|, 1): finite even
-    // where mue_ie is not (a zero denominator at theta-bar = 90, psi = 180), so it cannot make the other case NaN
-    const float after_ie = fmin(fabs(mue_ie), 1.0f);
-    const float den_ei = sl_after(om1i, after_ie) + one_minus_psi_over_pi + psi_over_pi * om1e;   // 2 - E1(i) - ...
-    const float tan_t_over_den_ei = tan_t / den_ei;
-    const float mu0e_ei = chi * (g.mu0 + g.sin_i * tan_t_over_den_ei * (e2i - sin2_half_psi * e2e));
-    const float mue_ei = chi * (g.mu + g.sin_e * tan_t_over_den_ei * (c * e2i + sin2_half_psi * e2e));
+    const float om1_near = i_le_e ? om1e : om1i, om1_far = i_le_e ? om1i : om1e;   // 1 - E1 of e, i (i <= e)
+    const float e2_near = i_le_e ? e2e : e2i, e2_far = i_le_e ? e2i : e2e;         // E2 of e, i (i <= e)
+    const float den = om1_near + one_minus_psi_over_pi + psi_over_pi * om1_far;   // 2 - E1(e) - (psi/pi) E1(i)
+    const float tan_t_over_den = tan_t / den;   // one division for both cosines
+    // i <= e: mu0e takes cos psi E2(e) + sin^2(psi/2) E2(i), mue E2(e) - sin^2(psi/2) E2(i); i > e the other way
+    const float sum = c * e2_near + sin2_half_psi * e2_far, diff = e2_near - sin2_half_psi * e2_far;
+    const float mu0e = fmax(chi * (g.mu0 + g.sin_i * tan_t_over_den * (i_le_e ? sum : diff)), 0.0f);
     // mue after mu0e (sl_after, with a finite dependence: fmin(NaN or Inf, 1) is a number): the two floors side by
     // side are packed into <2 x float> on AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
-    const float mu0e = fmax(i_le_e ? mu0e_ie : mu0e_ei, 0.0f);
-    const float mue = fmax(sl_after(i_le_e ? mue_ie : mue_ei, fmin(mu0e, 1.0f)), 0.0f);
+    const float mue_raw = chi * (g.mu + g.sin_e * tan_t_over_den * (i_le_e ? diff : sum));
+    const float mue = fmax(sl_after(mue_raw, fmin(mu0e, 1.0f)), 0.0f);
     const float q = chi * (i_le_e ? g.mu0 : g.mu) / (i_le_e ? eta_i : eta_e);   // one division, selected operands
     // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
     // with two divisions: eta_i (1 - f + f q) = (1 - f) eta_i + f chi mu0 (i <= e; eta_i >= chi mu0) is at least as
@@ -340,11 +351,13 @@ SL_INLINE float Hapke_BC(float t, float bc0, float inv_hc) {
 // The porosity-corrected smooth law (Hapke 2008, Icarus 195:918; Hapke 2012, eq. 12.55 without roughness):
 //   pi r = K (w/4) mu0/(mu0 + mu) [P(g) (1 + B_SH(g)) + H(mu0/K) H(mu/K) - 1] (1 + B_CB(g)),
 // H the 2002 approximation, K = -ln(1 - 1.209 phi^(2/3)) / (1.209 phi^(2/3)) the porosity factor (host).
+// With D = 1 / (H(mu0/K) H(mu/K)) in (0, 1], the bracket is ((P (1 + B_SH) - 1) D + 1) / D: one division by
+// (mu0 + mu) D for both quotients.
 SL_INLINE float Hapke2012_smooth(float mu0, float mu, float w, float r0, float K, float B_SH, float B_CB, float P) {
     const float inv_K = 1.0f / K;
     const float D0 = Hapke_H2002_den(mu0 * inv_K, w, r0);   // 1 / H(mu0 / K)
-    const float M = 1.0f / (D0 * Hapke_H2002_den(sl_after(mu, D0) * inv_K, w, r0)) - 1.0f;   // H H - 1; sl_after
-    return K * 0.25f * w * mu0 / (mu0 + mu) * (P * (1.0f + B_SH) + M) * (1.0f + B_CB);
+    const float D = D0 * Hapke_H2002_den(sl_after(mu, D0) * inv_K, w, r0);   // 1 / (H H); mu's after mu0's (sl_after)
+    return K * 0.25f * w * mu0 * ((P * (1.0f + B_SH) - 1.0f) * D + 1.0f) / ((mu0 + mu) * D) * (1.0f + B_CB);
 }
 
 // ---- models, in photometric quantities (value for albedo 1; 0 where not lit or not seen) -------------------
