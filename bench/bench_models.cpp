@@ -93,6 +93,7 @@ struct Options {
     bool smoke = false;
     bool local_study = false;
     bool vec_report = true;
+    bool require_vectorised = false;   // exit 1 when a kernel was not vectorised (the tests' regression check)
     std::size_t local = 0;             // 0: Shader's default
     std::string csv;
     std::string markdown;   // the throughput section of docs/speed.md, written from this run
@@ -482,6 +483,9 @@ int main(int argc, char** argv) {
     app.add_flag("--local-sizes", opt.local_study, "The work-group size study instead of the table");
     app.add_flag("--no-vec", [&](std::int64_t) { opt.vec_report = false; },
                  "Skip the vectorisation report (keeps PoCL's kernel cache on)");
+    app.add_flag("--require-vectorised", opt.require_vectorised,
+                 "Exit 1 when PoCL did not vectorise a kernel as asked (the test suite runs --smoke with it, also for "
+                 "an AVX2 target: POCL_LLVM_CPU_NAME=haswell POCL_KERNELLIB_NAME=avx2 SHADELAB_VECTOR_WIDTH=8)");
     app.add_option("--csv", opt.csv, "Also write the table as CSV");
     app.add_option("--markdown", opt.markdown, "Also write the table as a markdown report");
     try {
@@ -490,6 +494,8 @@ int main(int argc, char** argv) {
         else if (quick) opt.sizes = {1u << 20};
         if (!sizes.empty()) { opt.sizes.clear(); for (const auto& v : split(sizes)) opt.sizes.push_back(parse_count(v)); }
         if (!models.empty()) { opt.models = split(models); for (const auto& m : opt.models) find_model(m); }
+        if (opt.require_vectorised && !opt.vec_report)
+            throw Error("--require-vectorised needs the vectorisation report: drop --no-vec");
         if (!modes.empty()) { opt.modes.clear(); for (const auto& m : split(modes)) opt.modes.push_back(parse_precision(m)); }
         if (!local.empty()) opt.local = local == "auto" ? Shader::kLocalAuto : parse_count(local);
     } catch (const CLI::ParseError& e) {
@@ -627,6 +633,7 @@ int main(int argc, char** argv) {
                 }
             }
         }
+        bool all_vectorised = true;
         if (opt.vec_report) {
             int vectorised[2] = {0, 0}, total[2] = {0, 0};
             for (const auto& [key, verdict] : vec_of) {
@@ -634,6 +641,7 @@ int main(int argc, char** argv) {
                 ++total[fast];
                 vectorised[fast] += verdict != "?" && verdict.find("no") == std::string::npos;
             }
+            all_vectorised = vectorised[0] == total[0] && vectorised[1] == total[1];
             std::cout << "\nvectorised (PoCL's remarks): precise " << vectorised[0] << " of " << total[0] << ", fast "
                       << vectorised[1] << " of " << total[1] << "\n";
             for (const auto& [key, verdict] : vec_of)
@@ -684,7 +692,10 @@ int main(int argc, char** argv) {
                   << (loops_agree ? "every C++ loop agrees with its kernel"
                                   : "A C++ LOOP DISAGREES WITH ITS KERNEL (more than 0.1% of values off by > 1e-3)")
                   << "\n";
-        return finite && loops_agree ? 0 : 1;
+        if (opt.require_vectorised && !all_vectorised)
+            std::cerr << "bench_models: error: PoCL did not vectorise every kernel on "
+                      << rt.device_description() << " (the 'not vectorised' lines above name them and LLVM's reason)\n";
+        return finite && loops_agree && (all_vectorised || !opt.require_vectorised) ? 0 : 1;
     } catch (const std::exception& e) {
         std::cerr << "bench_models: error: " << e.what() << "\n";
         return 1;
