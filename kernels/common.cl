@@ -393,11 +393,16 @@ SL_INLINE float sl_log2_ff(float x, float* lo) {
 // 2^(t + t_lo) for t in [-126, 130] (0 below: flush to zero; clamped above, beyond the float range):
 // k = rint(t) by the 1.5 * 2^23 shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
 SL_INLINE float sl_exp2_ff(float t, float t_lo) {
-    // Clamped to [-126, 130]: below -126 the result is flushed to zero (above), and clamping there (not lower)
-    // keeps every lane's scaled value a normal float, so no lane computes a denormal it then throws away.
+    // Clamped to [-126, 130]: below -126 the result is flushed to zero (above), and clamping there (not lower),
+    // with the low part dropped in the clamped lanes, keeps every lane's scaled value a normal float (a clamped
+    // lane computes exactly 2^-126), so no lane computes a denormal it then throws away. (With the low part kept,
+    // a clamped lane's 2^(t_lo) < 1 times 2^-126 was a denormal: on the code PoCL generates for AVX2 hosts each
+    // such vector multiply took a microcode assist, and phong and blinn_phong ran precise mode at 0.4x: docs/speed.md,
+    // "The AVX2 check".)
     const float tc = fmin(fmax(t, -126.0f), 130.0f);
     const float k = (tc + 12582912.0f) - 12582912.0f;
-    const float r = sl_scale_exp2(sl_exp_taylor7(((tc - k) + t_lo) * 0.693147181f), k);
+    const float lo = t < -126.0f ? 0.0f : t_lo;
+    const float r = sl_scale_exp2(sl_exp_taylor7(((tc - k) + lo) * 0.693147181f), k);
     return t < -126.0f ? 0.0f : r;
 }
 
