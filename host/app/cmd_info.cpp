@@ -135,11 +135,12 @@ void add_devices_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("devices", "Show the OpenCL device shadelab picks and where its kernels are");
     cmd->callback([] {
         Runtime rt;
+        const std::string chains = two_chain_models();   // before any output: a bad SHADELAB_CHAINS is one line
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
                   << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only\n"
-                  << "chains:  two chains of lanes a work-item, twice the fragments, for " << two_chain_models()
+                  << "chains:  two chains of lanes a work-item, twice the fragments, for " << chains
                   << " (SHADELAB_CHAINS=1 or 2 sets every model's)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
