@@ -573,7 +573,8 @@ int main(int argc, char** argv) {
                     if (opt.vec_report && !vec_of.count(key)) {
                         const std::string remarks = capture_output([&] { outs[k] = shader.shade(fb, setups[k]); });
                         const std::size_t lanes = Shader::lanes_for(info.normals_only, rt.vector_width());
-                        vec_of[key] = vectoriser_verdict(remarks, lanes, lanes > 1 ? Shader::chains_for(info) : 1);
+                        vec_of[key] = vectoriser_verdict(remarks, lanes,
+                                                         Shader::frags_per_item(info, rt.vector_width()) / lanes);
                     } else {
                         outs[k] = shader.shade(fb, setups[k]);
                     }
