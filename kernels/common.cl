@@ -152,6 +152,43 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // Silenced once here for every kernel after common.cl in the program (see above for why).
 #pragma clang diagnostic ignored "-Wpass-failed"
 
+// ---- streaming stores: a work-item's outputs written past the cache -------------------------------------------
+// A plain store to a line that is not in the cache first reads the line from memory (write-allocate), so an
+// output plane larger than the cache costs its bytes twice; a non-temporal store (x86 MOVNTPS) writes whole lines
+// straight to memory. The shade kernels collect a work-item's SL_FRAGS_PER_ITEM results of a plane in a private
+// block and write it with sl_store_block: non-temporal when the host asks (`stream`: outputs past the cache,
+// Shader::streams_output) and the block starts on a boundary of its vector (64 bytes for 16 floats, 32 for 8:
+// MOVNTPS faults on a misaligned address), a plain vector store otherwise. The block, not the loop's scalar
+// stores: LLVM's loop vectoriser will not widen a non-temporal store of a float (its alignment is below the
+// vector's). docs/speed.md, "Streaming stores", has the measurements.
+#if SL_FRAGS_PER_ITEM % 16 == 0
+#define SL_STORE_LINE 16
+#define SL_STORE_VEC float16
+#define SL_STORE_VLOAD vload16
+#define SL_STORE_VSTORE vstore16
+#elif SL_FRAGS_PER_ITEM % 8 == 0
+#define SL_STORE_LINE 8
+#define SL_STORE_VEC float8
+#define SL_STORE_VLOAD vload8
+#define SL_STORE_VSTORE vstore8
+#endif
+#ifdef SL_STORE_LINE
+SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, uint stream) {
+    if (stream && (((ulong)dst) & (SL_STORE_LINE * sizeof(float) - 1)) == 0) {
+        __global SL_STORE_VEC* line = (__global SL_STORE_VEC*)dst;
+        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j)
+            __builtin_nontemporal_store(SL_STORE_VLOAD(j, block), line + j);
+    } else {
+        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) SL_STORE_VSTORE(SL_STORE_VLOAD(j, block), j, dst);
+    }
+}
+#else
+SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, uint stream) {
+    (void)stream;
+    for (uint j = 0; j < SL_FRAGS_PER_ITEM; ++j) dst[j] = block[j];
+}
+#endif
+
 // ---- trigonometry: own, vectorisable ----------------------------------------------------------------------
 // PoCL 3.1's sin, cos, tan, asin, acos, atan and atan2 are library calls that its work-item loop vectoriser
 // cannot widen ("call instruction cannot be vectorized"): one call and the whole model runs one fragment at a

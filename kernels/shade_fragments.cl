@@ -1,7 +1,7 @@
 // The fragment-shading kernel, named SL_SHADE_KERNEL, for the model SL_EVAL: kernels/shade.cl includes it
 // once (as shade_fragments), kernels/shade_many.cl once per model (as shade_fragments_<eval function>).
 // No include guard on purpose. Needs kernels/shade_parts.cl and the model's header included before it.
-// SL_SHADE_EXTRA_ARGS, when defined, adds arguments after `tab` (shade_many.cl's dispatching kernel: its model).
+// SL_SHADE_EXTRA_ARGS, when defined, adds arguments after `stream` (shade_many.cl's dispatching kernel: its model).
 #ifndef SL_SHADE_EXTRA_ARGS
 #define SL_SHADE_EXTRA_ARGS
 #endif
@@ -11,7 +11,8 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
                               __global const float* restrict ny, __global const float* restrict nz,
                               __global float* restrict out, const uint stride, const DeviceView view,
                               __constant const ModelConsts* mc_arg, __constant const DeviceLight* lights_arg,
-                              const float4 ambient, __global const float* restrict tab SL_SHADE_EXTRA_ARGS) {
+                              const float4 ambient, __global const float* restrict tab,
+                              const uint stream SL_SHADE_EXTRA_ARGS) {
     (void)tab;
     // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
     // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
@@ -23,6 +24,7 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
     // common.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
     // at one fragment a work-item the loop is gone before PoCL builds its work-item loop.
     const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
+    float out_r[SL_FRAGS_PER_ITEM], out_g[SL_FRAGS_PER_ITEM], out_b[SL_FRAGS_PER_ITEM];   // sl_store_block's
     SL_FRAGMENT_LOOP
     for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k) {
         const size_t i = first + k;
@@ -44,8 +46,11 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
             g += (rad[1] * e) * v.g;
             b += (rad[2] * e) * v.b;
         }
-        out[i] = sl_finite_or_zero(r);
-        out[stride + i] = sl_finite_or_zero(g);
-        out[2 * stride + i] = sl_finite_or_zero(b);
+        out_r[k] = sl_finite_or_zero(r);
+        out_g[k] = sl_finite_or_zero(g);
+        out_b[k] = sl_finite_or_zero(b);
     }
+    sl_store_block(out + first, out_r, stream);   // common.cl: streamed past the cache when `stream` asks
+    sl_store_block(out + stride + first, out_g, stream);
+    sl_store_block(out + 2 * (size_t)stride + first, out_b, stream);
 }

@@ -293,3 +293,54 @@ TEST_CASE("shade: two chains a work-item give one chain's pixels, bit for bit, f
     CHECK_THROWS_WITH(Shader::chains_for(model_catalogue().front()),
                       Catch::Contains("SHADELAB_CHAINS is '3'") && Catch::Contains("use 1 or 2"));
 }
+
+// Streaming stores (kernels/common.cl, sl_store_block; Shader::streams_output): with SHADELAB_STREAM_STORES=1 every
+// launch streams its aligned blocks, and the body starts at the first fragment whose red output begins a 64-byte
+// line, the fragments before it going with the tail into the padded second launch. The pixels are those of
+// plain stores, bit for bit, for every model of the catalogue, at fragment counts that put the green and blue
+// planes on and off a line boundary (4096: all three planes aligned alike; 4109: not), below one work-group and
+// below one head (7). The default streams only outputs of kStreamOutputBytes or more; another value of the
+// variable is refused with one line.
+TEST_CASE("shade: streaming stores give plain stores' pixels, bit for bit, for every model and head/tail split",
+          "[shade][stream]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    std::size_t compared = 0;
+    for (std::size_t n : {std::size_t(4109), std::size_t(4096), std::size_t(7)}) {
+        const FragmentBuffer fb = random_fragments(n, 23 + n);
+        for (const auto& info : model_catalogue()) {
+            if (n != 4109 && !(info.name == "lambert" || info.name == "phong" || info.name == "oren_nayar" ||
+                               info.name == "half_lambert"))
+                continue;
+            INFO("model " << info.name << ", " << n << " fragments, device width " << rt.vector_width());
+            const ShadeSetup s = setup_of(default_of(info.name), kDirectionalAndPoint, Precision::Precise);
+            std::vector<float> plain, streamed;
+            {
+                test::ScopedEnv env("SHADELAB_STREAM_STORES", "0");
+                CHECK_FALSE(Shader::streams_output(n));
+                plain = Shader(rt).shade(fb, s);
+            }
+            {
+                test::ScopedEnv env("SHADELAB_STREAM_STORES", "1");
+                CHECK(Shader::streams_output(n));
+                Shader sh(rt);
+                sh.shade_into(fb, s, streamed);
+                REQUIRE(streamed.size() == 3 * n);
+                CHECK(same_bits(plain, streamed));
+                std::fill(streamed.begin(), streamed.end(), -1.0f);   // again into the reused (same) memory
+                sh.shade_into(fb, s, streamed);
+            }
+            REQUIRE(plain.size() == 3 * n);
+            CHECK(same_bits(plain, streamed));
+            ++compared;
+        }
+    }
+    CHECK(compared >= model_catalogue().size() + 8);
+    {
+        test::ScopedEnv env("SHADELAB_STREAM_STORES", "");
+        CHECK_FALSE(Shader::streams_output(1 << 20));   // 12 MB of output: kept in the cache
+        CHECK(Shader::streams_output((Shader::kStreamOutputBytes + 11) / 12));
+    }
+    test::ScopedEnv env("SHADELAB_STREAM_STORES", "yes");
+    CHECK_THROWS_WITH(Shader::streams_output(1), Catch::Contains("SHADELAB_STREAM_STORES is 'yes'") &&
+                                                     Catch::Contains("use 0 or 1"));
+}

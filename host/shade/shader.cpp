@@ -76,15 +76,18 @@ double ms_between(const cl::Event& e) {
 
 // A read-only buffer over the first `count` floats of v, in place: PoCL's CPU device reads host memory given
 // with CL_MEM_USE_HOST_PTR directly (whatever its alignment), so no copy is made. The kernel never writes it.
-cl::Buffer in_place(cl::Context& ctx, const std::vector<float>& v, std::size_t count) {
-    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, count * sizeof(float), const_cast<float*>(v.data()));
+cl::Buffer in_place(cl::Context& ctx, const std::vector<float>& v, std::size_t first, std::size_t count) {
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, count * sizeof(float),
+                      const_cast<float*>(v.data() + first));
 }
 
-// A read-only buffer of `padded` floats: v's floats from `first` on (fewer than `padded`), then zeros that
-// shade (0, 0, 0) fragments, never read back. Only the launch's tail needs it.
-cl::Buffer padded_copy(cl::Context& ctx, const std::vector<float>& v, std::size_t first, std::size_t padded) {
+// A read-only buffer of `padded` floats: v's first `head` floats and its floats from `from` on (together fewer
+// than `padded`), then zeros that shade (0, 0, 0) fragments, never read back. Only the launch's rest needs it.
+cl::Buffer padded_copy(cl::Context& ctx, const std::vector<float>& v, std::size_t head, std::size_t from,
+                       std::size_t padded) {
     std::vector<float> h(padded, 0.0f);
-    std::copy(v.begin() + std::ptrdiff_t(first), v.end(), h.begin());
+    std::copy_n(v.begin(), head, h.begin());
+    std::copy(v.begin() + std::ptrdiff_t(from), v.end(), h.begin() + std::ptrdiff_t(head));
     return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, padded * sizeof(float), h.data());
 }
 
@@ -252,6 +255,16 @@ std::size_t Shader::chains_for(const ModelInfo& info) {
     return v == "2" ? 2 : 1;
 }
 
+bool Shader::streams_output(std::size_t n) {
+    const char* env = std::getenv("SHADELAB_STREAM_STORES");
+    if (!env || !*env) return 3 * n * sizeof(float) >= kStreamOutputBytes;
+    const std::string v = env;
+    if (v != "0" && v != "1")
+        throw Error("SHADELAB_STREAM_STORES is '" + v +
+                    "': use 0 or 1 (plain or streaming stores of the shaded planes), or unset it");
+    return v == "1";
+}
+
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
     const std::size_t lanes = lanes_for(info.normals_only, device_width);
     return lanes > 1 ? lanes * chains_for(info) : 1;   // kernels/common.cl: no second chain at one lane
@@ -265,6 +278,7 @@ struct LaunchBuffers {
     cl::Buffer in[6];
     cl::Buffer out;
     std::size_t stride = 0;
+    bool stream = false;   // streaming stores (Shader::streams_output)
 };
 
 // The six planes of `fb`, in the kernel's argument order.
@@ -272,17 +286,19 @@ std::array<const std::vector<float>*, 6> planes_of(const FragmentBuffer& fb) {
     return {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz};
 }
 
-// The body's inputs: the first `body` fragments of each plane, in place (zero-copy).
-LaunchBuffers body_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t body) {
+// The body's inputs: `body` fragments of each plane from `first` on, in place (zero-copy).
+LaunchBuffers body_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t first, std::size_t body) {
     LaunchBuffers b;
-    for (int c = 0; c < 6; ++c) b.in[c] = in_place(ctx, *planes_of(fb)[std::size_t(c)], body);
+    for (int c = 0; c < 6; ++c) b.in[c] = in_place(ctx, *planes_of(fb)[std::size_t(c)], first, body);
     return b;
 }
 
-// The tail's inputs: each plane from `body` on, copied and padded to one work-group of `group` fragments.
-LaunchBuffers tail_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t body, std::size_t group) {
+// The rest's inputs: each plane's first `head` fragments and those from `from` on, copied and padded to
+// `padded` fragments (whole work-groups).
+LaunchBuffers rest_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t head, std::size_t from,
+                          std::size_t padded) {
     LaunchBuffers b;
-    for (int c = 0; c < 6; ++c) b.in[c] = padded_copy(ctx, *planes_of(fb)[std::size_t(c)], body, group);
+    for (int c = 0; c < 6; ++c) b.in[c] = padded_copy(ctx, *planes_of(fb)[std::size_t(c)], head, from, padded);
     return b;
 }
 
@@ -293,6 +309,7 @@ cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers
     for (cl_uint c = 0; c < 6; ++c) k.setArg(c, b.in[c]);
     k.setArg(6, b.out);
     k.setArg(7, cl_uint(b.stride));
+    k.setArg(13, cl_uint(b.stream ? 1 : 0));
     cl::Event ev;
     const cl::NDRange groups = local == Shader::kLocalAuto ? cl::NullRange : cl::NDRange(local / per_item);
     q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count / per_item), groups, nullptr, &ev);
@@ -343,9 +360,35 @@ void finish_read_map(cl::CommandQueue& q, const ReadMap& m) {
 
 }  // namespace
 
-// The kernel has no bounds check, so each launch covers a whole number of work-groups: the body (n rounded down
-// to the work-group size) reads the fragment planes and writes `out` in place, with no copy either way; the
-// tail (fewer than a work-group) goes through small padded copies in a second launch.
+namespace {
+
+// Fragments from p (a plane of n floats) to the first that starts a 64-byte line: 0 to 15 (0 when p is not even
+// float-aligned, or when there are not that many fragments).
+std::size_t fragments_to_line(const float* p, std::size_t n) {
+    const std::uintptr_t a = reinterpret_cast<std::uintptr_t>(p);
+    if (a % sizeof(float) != 0) return 0;
+    const std::size_t h = std::size_t((64 - a % 64) % 64) / sizeof(float);
+    return h < n ? h : 0;
+}
+
+// The rest launch's results (planes of `rest_n`: the `head` fragments, then the tail) into their places in `out`
+// (planes of n = out.size() / 3), around the body's `body` fragments.
+void place_rest(const std::vector<float>& rest_out, std::size_t rest_n, std::size_t head, std::size_t body,
+                std::vector<float>& out) {
+    const std::size_t n = out.size() / 3, tail = n - head - body;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const auto from = rest_out.begin() + std::ptrdiff_t(c * rest_n);
+        std::copy_n(from, head, out.begin() + std::ptrdiff_t(c * n));
+        std::copy_n(from + std::ptrdiff_t(head), tail, out.begin() + std::ptrdiff_t(c * n + head + body));
+    }
+}
+
+}  // namespace
+
+// The kernel has no bounds check, so each launch covers a whole number of work-groups: the body (a multiple of
+// the work-group size) reads the fragment planes and writes `out` in place, with no copy either way; the
+// fragments before it (the head, when streamed: Shader::streams_output) and after it (the tail, fewer than a
+// work-group) go through small padded copies in a second launch.
 std::vector<float> Shader::shade(const FragmentBuffer& fb, const ShadeSetup& setup, ShadeTiming* timing) {
     std::vector<float> out;
     shade_into(fb, setup, out, timing);
@@ -374,12 +417,16 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
         throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
                     std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
                     std::to_string(per_item) + " (or SHADELAB_VECTOR_WIDTH)");
-    const std::size_t body = n / group * group, tail = n - body;
     // Fresh `out` pages are touched here (zero-filled, huge pages advised: a 4096x4096 frame's 44 MB took ~26 ms
     // of 4 KB page faults), not first-touched page by page inside the kernel's time; `out`'s own memory is
     // reused when it is large enough (a renderer's next frame: the zero-fill was another 6-8 ms at 4096x4096).
-    std::vector<float> tail_out(tail ? 3 * group : 0);
     size_for_frame(out, 3 * n);
+    // Streamed, the body starts at the first fragment whose red output begins a 64-byte line (kernels/common.cl,
+    // sl_store_block, streams aligned blocks only); the `head` before it goes with the tail into the rest launch.
+    const bool stream = streams_output(n);
+    const std::size_t head = stream ? fragments_to_line(out.data(), n) : 0;
+    const std::size_t body = (n - head) / group * group, tail = n - head - body, rest_n = round_up(head + tail, group);
+    std::vector<float> rest_out(3 * rest_n);
     try {
         const auto t0 = clock::now();
         cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision));
@@ -388,37 +435,39 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
         auto& q = rt_.queue();
         LaunchBuffers main, rest;
         if (body) {
-            main = body_planes(ctx, fb, body);
-            main.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, out.size() * sizeof(float), out.data());
+            main = body_planes(ctx, fb, head, body);
+            main.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, (out.size() - head) * sizeof(float),
+                                  out.data() + head);
             main.stride = n;
+            main.stream = stream;
         }
-        if (tail) {
-            rest = tail_planes(ctx, fb, body, group);
-            rest.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, tail_out.size() * sizeof(float),
-                                  tail_out.data());
-            rest.stride = group;
+        if (rest_n) {
+            rest = rest_planes(ctx, fb, head, head + body, rest_n);
+            rest.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, rest_out.size() * sizeof(float),
+                                  rest_out.data());
+            rest.stride = rest_n;
         }
         const std::array<cl::Buffer, 3> frame_args = set_frame_args(ctx, k, consts, lights, view, setup.ambient, mat);
         const auto t2 = clock::now();
         cl::Event ev_main, ev_rest;
-        ReadMap map_main{&main.out, out.data(), out.size()}, map_rest{&rest.out, tail_out.data(), tail_out.size()};
+        ReadMap map_main{&main.out, out.data() + head, out.size() - head};
+        ReadMap map_rest{&rest.out, rest_out.data(), rest_out.size()};
         if (body) ev_main = enqueue_launch(q, k, main, body, local, per_item);
-        if (tail) ev_rest = enqueue_launch(q, k, rest, group, local, per_item);
+        if (rest_n) ev_rest = enqueue_launch(q, k, rest, rest_n, local, per_item);
         if (body) enqueue_read_map(q, map_main);
-        if (tail) enqueue_read_map(q, map_rest);
+        if (rest_n) enqueue_read_map(q, map_rest);
         q.finish();
         const auto t3 = clock::now();
         if (body) finish_read_map(q, map_main);
-        if (tail) finish_read_map(q, map_rest);
-        q.finish();   // the unmaps done before the buffers and `tail_out` go
-        for (std::size_t c = 0; c < 3 && tail; ++c)
-            std::copy_n(tail_out.begin() + std::ptrdiff_t(c * group), tail, out.begin() + std::ptrdiff_t(c * n + body));
+        if (rest_n) finish_read_map(q, map_rest);
+        q.finish();   // the unmaps done before the buffers and `rest_out` go
+        if (rest_n) place_rest(rest_out, rest_n, head, body, out);
         const auto t4 = clock::now();
         if (timing) {
             auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
             timing->build_ms = ms(t0, t1);
             timing->upload_ms = ms(t1, t2);
-            timing->kernel_ms = (body ? ms_between(ev_main) : 0.0) + (tail ? ms_between(ev_rest) : 0.0);
+            timing->kernel_ms = (body ? ms_between(ev_main) : 0.0) + (rest_n ? ms_between(ev_rest) : 0.0);
             timing->download_ms = ms(t3, t4);
         }
     } catch (const cl::Error& e) {

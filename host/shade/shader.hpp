@@ -89,6 +89,13 @@ public:
     // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for times chains_for (one chain at one lane,
     // where there is no fragment loop).
     static std::size_t frags_per_item(const ModelInfo& info, std::size_t device_width);
+    // Whether a launch shading n fragments writes its output planes with streaming (non-temporal) stores
+    // (kernels/common.cl, sl_store_block): when the three planes, 12n bytes, are at least kStreamOutputBytes, past
+    // the last-level cache, where a plain store first reads each line from memory. The environment's
+    // SHADELAB_STREAM_STORES (0 or 1) sets it for every launch (for measuring the choice); throws
+    // shadelab::Error on any other value of it. docs/speed.md, "Streaming stores".
+    static constexpr std::size_t kStreamOutputBytes = std::size_t(32) << 20;
+    static bool streams_output(std::size_t n);
 
     // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
     // returns rgb interleaved (3n floats). Used by the kernel-vs-reference sweeps.

@@ -17,3 +17,21 @@ __kernel void stream_triad(__global float* restrict a, __global const float* res
     const size_t i = get_global_id(0);
     a[i] = b[i] + s * c[i];
 }
+
+// The same two with streaming (non-temporal) stores, as the shade kernels write planes past the cache
+// (kernels/common.cl, sl_store_block): 16 elements a work-item, stored as one aligned float16 line with
+// __builtin_nontemporal_store (x86 MOVNTPS), so a line is written without first being read (no write-allocate).
+// STREAM's own C code, built with plain stores, pays that read; bench_models sets a model's bandwidth against
+// the better of the two triads, so that a kernel's streaming stores do not make the yardstick look slow. The host
+// launches n / 16 work-items over arrays aligned to 128 bytes (PoCL's buffers) of a multiple of 16 elements.
+#define SL_STREAM_LINE 16
+__kernel void stream_copy_nt(__global const float* restrict a, __global float* restrict c) {
+    const size_t i = get_global_id(0);
+    __builtin_nontemporal_store(vload16(i, a), (__global float16*)c + i);
+}
+
+__kernel void stream_triad_nt(__global float* restrict a, __global const float* restrict b,
+                              __global const float* restrict c, const float s) {
+    const size_t i = get_global_id(0);
+    __builtin_nontemporal_store(vload16(i, b) + s * vload16(i, c), (__global float16*)a + i);
+}
