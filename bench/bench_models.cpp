@@ -390,6 +390,7 @@ struct Row {
     std::size_t n;
     std::string model, mode;
     double mfps, gbs, of_stream, x_cpp, x_ref;   // x_cpp < 0: no loop
+    double of_plain_stream;                      // against the triad with plain stores (McCalpin's code) only
     double x_precise;                            // fast rows: fast / precise Mfrag/s (< 0: not measured)
     std::string vec, target, verdict;
 };
@@ -532,7 +533,8 @@ int main(int argc, char** argv) {
         if (!opt.csv.empty()) {
             csv.open(opt.csv);
             if (!csv) throw Error("cannot write the CSV file '" + opt.csv + "': check the folder exists and is writable");
-            csv << "n,model,mode,mfrag_per_s,gb_per_s,of_stream,x_cpp,x_ref,fast_x_precise,vectorised,target,verdict\n";
+            csv << "n,model,mode,mfrag_per_s,gb_per_s,of_stream,x_cpp,x_ref,fast_x_precise,vectorised,target,verdict,"
+                   "of_plain_stream\n";
         }
         Runtime rt(ro);
         Shader shader(rt);
@@ -579,7 +581,8 @@ int main(int argc, char** argv) {
                 // one sitting. The first call of each mode compiles its kernel and is not timed.
                 // The yardstick: the better triad of plain and streaming stores (the kernels stream theirs past
                 // the cache, Shader::streams_output), re-timed for every model.
-                const double triad = std::max(stream.triad_gbs(opt.repeats), stream.triad_streamed_gbs(opt.repeats));
+                const double triad_plain = stream.triad_gbs(opt.repeats);
+                const double triad = std::max(triad_plain, stream.triad_streamed_gbs(opt.repeats));
                 std::vector<ShadeSetup> setups;
                 std::vector<std::vector<float>> outs(opt.modes.size());
                 std::vector<double> best_ms(opt.modes.size(), 1e30);
@@ -619,7 +622,7 @@ int main(int argc, char** argv) {
                     const double mfps = double(n) / ms * 1e-3;
                     const double gbs = bytes_per_fragment(info) * double(n) / ms * 1e-6;
                     Row row{n, info.name, precision_name(p), mfps, gbs, gbs / triad,
-                            have_loop ? loop.ms / ms : -1.0, double(n) / ms * 1e3 / ref_fps,
+                            have_loop ? loop.ms / ms : -1.0, double(n) / ms * 1e3 / ref_fps, gbs / triad_plain,
                             p == Precision::Fast && precise_mfps > 0 ? mfps / precise_mfps : -1.0,
                             opt.vec_report ? vec_of[key] : "-", "", ""};
                     if (p == Precision::Precise) precise_mfps = mfps;
@@ -644,7 +647,7 @@ int main(int argc, char** argv) {
                             << fixed(row.gbs, 2) << "," << fixed(row.of_stream, 3) << ","
                             << (have_loop ? fixed(row.x_cpp, 3) : "") << "," << fixed(row.x_ref, 1) << ","
                             << (row.x_precise >= 0 ? fixed(row.x_precise, 3) : "") << ",\"" << row.vec << "\",\""
-                            << row.target << "\",\"" << row.verdict << "\"\n";
+                            << row.target << "\",\"" << row.verdict << "\"," << fixed(row.of_plain_stream, 3) << "\n";
                     if (row.verdict != "ok") misses.push_back(row);
                     rows.push_back(row);
                 }
