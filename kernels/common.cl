@@ -79,35 +79,8 @@ SL_INLINE sl_v3 sl_cross(sl_v3 a, sl_v3 b) {
 }
 // |a|
 SL_INLINE float sl_length(sl_v3 a) { return sqrt(sl_dot(a, a)); }
-// 1 / sqrt(x) for fast mode (SL_FAST maps rsqrt to it, and sl_normalize below uses it): no square root and no
-// division, which are the slowest vector instructions there are (on AVX-512 one 16-lane vsqrtps or vdivps costs
-// the throughput of about 20 fmas, and PoCL's rsqrt and native_rsqrt are both). An estimate from the bits (the
-// exponent halved and negated by one integer subtraction from 0x5f375a86, C. Lomont, "Fast inverse square root",
-// 2003: within 3.5%), one Newton step y (3/2 - x y^2 / 2) (within 1.8e-3), then one third-order step
-// y (1 + r/2 + 3 r^2/8) with r = 1 - x y^2 (error ~ 5/16 of the cube: below float's rounding), r computed from
-// x y split exactly into two floats, so that the last fma's rounding is nearly all the error: 0.70 ulp over
-// every 3rd positive normal float against double, where PoCL's rsqrt (1 / sqrt, two roundings) reaches 1.46
-// (docs/precision.md "Fast rsqrt", tests/test_precision.cpp sweeps it).
-// Denormal x is scaled by 2^24 first; x = +-0 gives +-inf, +inf gives 0, x < 0 and NaN give NaN, as rsqrt.
-SL_INLINE float sl_fast_rsqrt(float x) {
-    const int sub = x < 1.17549435e-38f;   // denormal (or 0, or negative: selected below)
-    const float xs = sub ? x * 16777216.0f : x;
-    float y = as_float(0x5f375a86u - (as_uint(xs) >> 1));
-    y = y * fma(-0.5f * xs, y * y, 1.5f);
-    const float xy = xs * y, xy_lo = fma(xs, y, -xy);   // x y exactly, as xy + xy_lo
-    const float r = fma(-xy_lo, y, fma(-xy, y, 1.0f));  // 1 - x y^2, its rounding far below r's own ulp
-    y = fma(r * y, fma(0.375f, r, 0.5f), y);
-    y = sub ? y * 4096.0f : y;
-    const float at_zero = as_float(as_uint(x) | 0x7f800000u);   // +-inf
-    return x > 0.0f ? (x < INFINITY ? y : 0.0f) : (x == 0.0f ? at_zero : NAN);
-}
-#ifdef SL_FAST
-#define SL_RSQRT sl_fast_rsqrt
-#else
-#define SL_RSQRT rsqrt
-#endif
 // a / |a| (a != 0)
-SL_INLINE sl_v3 sl_normalize(sl_v3 a) { return sl_scale(a, SL_RSQRT(sl_dot(a, a))); }
+SL_INLINE sl_v3 sl_normalize(sl_v3 a) { return sl_scale(a, rsqrt(sl_dot(a, a))); }
 
 // Per-channel results: the common "albedo * d + specular * s" shape of the models.
 SL_INLINE sl_rgb sl_rgb_make(float r, float g, float b) { sl_rgb v; v.r = r; v.g = g; v.b = b; return v; }
@@ -605,9 +578,8 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 
 // Precision modes. The default ("precise") uses the OpenCL built-ins as written in the models (PoCL's
 // implementations, ~1-4 ulp), except the trigonometry (above) and pow and powr (sl_pow, above; PoCL's pow is
-// a call, 100x slower). SL_FAST ("fast") maps exp, log and sqrt to the native_ forms (the same code as the full
-// ones on PoCL's CPU driver), rsqrt to sl_fast_rsqrt (no square root, no division) and pow to sl_fast_pow
-// (plain float),
+// a call, 100x slower). SL_FAST ("fast") maps exp, log, sqrt and rsqrt to the native_ forms (the same code as
+// the full ones on PoCL's CPU driver) and pow to sl_fast_pow (plain float),
 // accepting larger error; the error of every model in fast mode is measured against the double reference and
 // documented in docs/precision.md (and bounded by tests/test_precision.cpp).
 // The mapping is done with function-like macros so that the model files stay written in plain OpenCL C.
@@ -623,7 +595,7 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 #define log(x) native_log(x)
 #define log2(x) native_log2(x)
 #define sqrt(x) native_sqrt(x)
-#define rsqrt(x) sl_fast_rsqrt(x)
+#define rsqrt(x) native_rsqrt(x)
 #define divide(x, y) native_divide((x), (y))
 #endif
 
