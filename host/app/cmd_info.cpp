@@ -136,12 +136,22 @@ void add_devices_command(CLI::App& app) {
     cmd->callback([] {
         Runtime rt;
         const std::string chains = two_chain_models();   // before any output: a bad SHADELAB_CHAINS is one line
+        const bool stream_all = Shader::streams_output(1);  // likewise a bad SHADELAB_STREAM_STORES
+        const bool stream_none = !Shader::streams_output(std::size_t(1) << 40);
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
                   << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only\n"
                   << "chains:  two chains of lanes a work-item, twice the fragments, for " << chains
                   << " (SHADELAB_CHAINS=1 or 2 sets every model's)\n"
+                  << "stores:  "
+                  << (stream_all    ? std::string("streaming (non-temporal) for every launch")
+                      : stream_none ? std::string("plain for every launch")
+                                    : "streaming (non-temporal) where a launch's shaded planes reach " +
+                                          std::to_string(Shader::kStreamOutputBytes >> 20) + " MB (" +
+                                          std::to_string((Shader::kStreamOutputBytes + 11) / 12) +
+                                          " fragments), plain below")
+                  << " (SHADELAB_STREAM_STORES=0 or 1 sets every launch's)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
 }
