@@ -7,7 +7,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <set>
+#include <string>
 #include <utility>
 
 #include "consts/scene.h"   // DeviceLight, DeviceView, shared with kernels/shade.cl
@@ -50,6 +52,17 @@ std::vector<DeviceLight> pack_lights(const std::vector<Light>& lights) {
 }
 
 std::size_t round_up(std::size_t n, std::size_t m) { return (n + m - 1) / m * m; }
+
+// The environment switch `name`: nothing when it is unset or empty, false for value `a`, true for value `b`; any
+// other value throws shadelab::Error, one line naming it, the two values and `what` they choose.
+std::optional<bool> env_switch(const char* name, const char* a, const char* b, const char* what) {
+    const char* env = std::getenv(name);
+    if (!env || !*env) return std::nullopt;
+    const std::string v = env;
+    if (v != a && v != b)
+        throw Error(std::string(name) + " is '" + v + "': use " + a + " or " + b + " (" + what + "), or unset it");
+    return v == b;
+}
 
 // The material's table buffer (kernels/shade.cl's `tab`, the last argument of every kernel there): one float,
 // never read, for a model without tables.
@@ -247,22 +260,13 @@ std::size_t Shader::lanes_for(bool normals_only, std::size_t device_width) {
 }
 
 std::size_t Shader::chains_for(const ModelInfo& info) {
-    const char* env = std::getenv("SHADELAB_CHAINS");
-    if (!env || !*env) return info.chains > 1 ? 2 : 1;
-    const std::string v = env;
-    if (v != "1" && v != "2")
-        throw Error("SHADELAB_CHAINS is '" + v + "': use 1 or 2 (chains a shading work-item runs), or unset it");
-    return v == "2" ? 2 : 1;
+    const auto two = env_switch("SHADELAB_CHAINS", "1", "2", "chains a shading work-item runs");
+    return two.value_or(info.chains > 1) ? 2 : 1;
 }
 
 bool Shader::streams_output(std::size_t n) {
-    const char* env = std::getenv("SHADELAB_STREAM_STORES");
-    if (!env || !*env) return 3 * n * sizeof(float) >= kStreamOutputBytes;
-    const std::string v = env;
-    if (v != "0" && v != "1")
-        throw Error("SHADELAB_STREAM_STORES is '" + v +
-                    "': use 0 or 1 (plain or streaming stores of the shaded planes), or unset it");
-    return v == "1";
+    return env_switch("SHADELAB_STREAM_STORES", "0", "1", "plain or streaming stores of the shaded planes")
+        .value_or(3 * n * sizeof(float) >= kStreamOutputBytes);
 }
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
@@ -357,10 +361,6 @@ void finish_read_map(cl::CommandQueue& q, const ReadMap& m) {
     if (m.mapped != m.host) std::memcpy(m.host, m.mapped, m.floats * sizeof(float));
     q.enqueueUnmapMemObject(*m.buf, m.mapped);
 }
-
-}  // namespace
-
-namespace {
 
 // Fragments from p (a plane of n floats) to the first that starts a 64-byte line: 0 to 15 (0 when p is not even
 // float-aligned, or when there are not that many fragments).

@@ -24,7 +24,6 @@ __kernel void stream_triad(__global float* restrict a, __global const float* res
 // STREAM's own C code, built with plain stores, pays that read; bench_models sets a model's bandwidth against
 // the better of the two triads, so that a kernel's streaming stores do not make the yardstick look slow. The host
 // launches n / 16 work-items over arrays aligned to 128 bytes (PoCL's buffers) of a multiple of 16 elements.
-#define SL_STREAM_LINE 16
 __kernel void stream_copy_nt(__global const float* restrict a, __global float* restrict c) {
     const size_t i = get_global_id(0);
     __builtin_nontemporal_store(vload16(i, a), (__global float16*)c + i);
