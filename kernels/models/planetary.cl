@@ -103,17 +103,29 @@ SL_INLINE float Pho_atan_and_atan_inv(float x, float* atan_inv) {
     return y0 + a;
 }
 
-// exp(x) for x <= 0 (-inf included; the laws only take exponentials of non-positive numbers): x = (k + f) ln 2,
-// k = rint(x / ln 2) by the 1.5 * 2^23 shift, |f| <= 1/2, e^(f ln 2) by its Taylor series to the 7th power
-// (remainder < 6e-9 relative), times 2^k built in the exponent field. Below -87 (under the float range) 0.
-SL_INLINE float Pho_exp(float x) {
-    const float t = fmax(x, -126.0f) * 1.44269504088896341f;   // x / ln 2
+// 2^t for t in [-126, 0] (PHO_EXP2_MIN: the laws only take exponentials of non-positive numbers, and the float
+// range ends at 2^-126): t = k + f, k = rint(t) by the 1.5 * 2^23 shift (the sum's low bits are k in two's
+// complement, so shifting them into the exponent field builds 2^k with no conversion), |f| <= 1/2, and 2^f - 1 =
+// f Q(f), Q of degree 5 fitted for relative error on [-1/2, 1/2] (Lawson-weighted least squares: 1.1e-8, 1.6e-7
+// evaluated in float). Returns 2^k and sets *fq = f Q(f), so that 2^t = 2^k (1 + fq) and 1 - 2^t = (1 - 2^k) -
+// 2^k fq, which keeps its relative accuracy as t -> 0 (k = 0: -fq, no cancellation).
+#define PHO_EXP2_MIN (-126.0f)
+SL_INLINE float Pho_exp2_parts(float t, float* fq) {
     const float shifted = t + 12582912.0f, k = shifted - 12582912.0f;
-    const float g = (t - k) * 0.693147180559945309f, g2 = g * g, g4 = g2 * g2;
-    const float p = fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
-                    g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
-    const float r = p * as_float(((int)k + 127) << 23);
-    return x < -87.0f ? 0.0f : r;
+    const float f = t - k;
+    const float q = fma(fma(fma(fma(fma(1.540348021e-4f, f, 1.339071780e-3f), f, 9.618237615e-3f), f,
+                                5.550357327e-2f), f, 2.402264923e-1f), f, 6.931471825e-1f);
+    *fq = f * q;
+    return as_float((as_uint(shifted) << 23) + 0x3f800000u);   // unsigned: the shift wraps by definition
+}
+
+// exp(x) for x <= 0 (-inf included): 2^(x / ln 2) by Pho_exp2_parts; below -126 ln 2 = -87.3 the exponent is
+// held at -126, so the result is at most 1.2e-38 where exp(x) is smaller (an absolute error below any float the
+// laws add it to). Branch-free (PoCL's exp is a call its loop vectoriser cannot widen).
+SL_INLINE float Pho_exp(float x) {
+    float fq;
+    const float two_k = Pho_exp2_parts(fmax(x * 1.44269504088896341f, PHO_EXP2_MIN), &fq);
+    return fma(two_k, fq, two_k);
 }
 
 // The phase angle g in degrees, 2 atan(tan(g/2)) (well conditioned at 0 and 180).
@@ -158,8 +170,10 @@ SL_INLINE float Pho_Minnaert(float mu0, float mu, float k) {
 // ---- Hapke's terms (Hapke 1981 JGR 86:3039; 1984 Icarus 59:41; 1986 Icarus 67:264; Hapke 1993, ch. 8-12) ----
 
 // Hapke's (1981) approximation to Chandrasekhar's H function, H(x) = (1 + 2x) / (1 + 2x gamma),
-// gamma = sqrt(1 - w) (exact for isotropic scatterers at w = 0 and w = 1, within 4% between).
-SL_INLINE float Hapke_H(float x, float gamma) { return (1.0f + 2.0f * x) / (1.0f + 2.0f * x * gamma); }
+// gamma = sqrt(1 - w) (exact for isotropic scatterers at w = 0 and w = 1, within 4% between), as its numerator
+// and denominator (the smooth law divides once for both H and its own quotient).
+SL_INLINE float Hapke_H_num(float x) { return 1.0f + 2.0f * x; }
+SL_INLINE float Hapke_H_den(float x, float gamma) { return 1.0f + 2.0f * x * gamma; }
 
 // Shadow-hiding opposition surge (Hapke 1986): B(g) = B0 / (1 + tan(g/2) / h). The host passes B0 = 0 and
 // 1/h = 0 for h = 0 (ISIS: no surge without a width), so t <= PHO_TAN_MAX keeps 0 * t finite.
@@ -199,8 +213,12 @@ SL_INLINE float Hapke_P_Legendre(float cos_g, float b, float c) {
 
 // The smooth-surface bidirectional reflectance times pi (Hapke 1981, 1986), in the (effective) cosines:
 //   pi r = (w / 4) mu0 / (mu0 + mu) [(1 + B(g)) P(g) - 1 + H(mu0) H(mu)]
+// With H(mu0) H(mu) = Hn / Hd, the bracket is (((1 + B) P - 1) Hd + Hn) / Hd, and the law one quotient:
+// (w / 4) mu0 (((1 + B) P - 1) Hd + Hn) / ((mu0 + mu) Hd), Hd in [1, 9] (divisions are what this kernel waits on:
+// docs/photometry.md, Speed).
 SL_INLINE float Hapke_smooth(float mu0, float mu, float w_over_4, float gamma, float B, float P) {
-    return w_over_4 * mu0 / (mu0 + mu) * ((1.0f + B) * P - 1.0f + Hapke_H(mu0, gamma) * Hapke_H(mu, gamma));
+    const float Hn = Hapke_H_num(mu0) * Hapke_H_num(mu), Hd = Hapke_H_den(mu0, gamma) * Hapke_H_den(mu, gamma);
+    return w_over_4 * mu0 * (((1.0f + B) * P - 1.0f) * Hd + Hn) / ((mu0 + mu) * Hd);
 }
 
 // E1(x) = exp(-(2/pi) cot(theta) cot x) and E2(x) = exp(-(1/pi) cot^2(theta) cot^2 x) (Hapke 1984, eqs. 45-46).
@@ -210,17 +228,20 @@ SL_INLINE float Hapke_smooth(float mu0, float mu, float w_over_4, float gamma, f
 SL_INLINE float Hapke_E2(float cot_x, float k2) { return Pho_exp(-k2 * cot_x * cot_x); }
 
 // mu_e(0) of a direction at angle x (Hapke 1984, eqs. 48-49):  chi (cos x + sin x tan(theta) E2(x) / (2 - E1(x))),
-// chi = 1 / sqrt(1 + pi tan^2(theta)). `e2_over` is E2(x) / (2 - E1(x)) (Hapke_roughness forms both directions'
-// quotients with one division).
-SL_INLINE float Hapke_eta(float cos_x, float sin_x, float e2_over, float chi, float tan_t) {
-    return chi * (cos_x + sin_x * tan_t * e2_over);
+// chi = 1 / sqrt(1 + pi tan^2(theta)), here without its factor chi (Hapke_roughness forms S from eta / chi, which
+// keeps its scale where chi is tiny: theta-bar -> 90 deg). `e2_over` is E2(x) / (2 - E1(x)) (Hapke_roughness
+// forms both directions' quotients with one division).
+SL_INLINE float Hapke_eta_over_chi(float cos_x, float sin_x, float e2_over, float tan_t) {
+    return cos_x + sin_x * tan_t * e2_over;
 }
 
-// 1 - exp(-x) for x >= 0 without the cancellation of 1 - Pho_exp(-x) at small x (theta-bar -> 90 deg makes
-// every E1 -> 1): below 0.03 by its Taylor series to x^4 (remainder < x^5/120 = 2e-10 of it).
+// 1 - exp(-x) for x >= 0 (+inf included) without the cancellation of 1 - Pho_exp(-x) at small x (theta-bar ->
+// 90 deg makes every E1 -> 1): (1 - 2^k) - 2^k f Q(f) from Pho_exp2_parts, at x -> 0 the polynomial's own
+// relative accuracy, and no branch between a series and the exponential.
 SL_INLINE float Pho_one_minus_exp_neg(float x) {
-    const float taylor = x * (1.0f - x * (0.5f - x * (1.0f / 6.0f - x * (1.0f / 24.0f))));
-    return x < 0.03f ? taylor : 1.0f - Pho_exp(-x);
+    float fq;
+    const float two_k = Pho_exp2_parts(fmax(-x * 1.44269504088896341f, PHO_EXP2_MIN), &fq);
+    return fma(-two_k, fq, 1.0f - two_k);
 }
 
 // Hapke (1984) macroscopic roughness: the effective cosines mu0e, mue and the shadowing function S(i, e, psi)
@@ -250,17 +271,14 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     const float om1e = Pho_one_minus_exp_neg(k1 * cot_e);   // 1 - E1(e)
     const float e2e = Hapke_E2(sl_after(cot_e, om1e), k2);
     const float den_i = 1.0f + om1i, den_e = 1.0f + sl_after(om1e, den_i);   // 2 - E1(i), 2 - E1(e)
-    const float inv_dens = 1.0f / (den_i * den_e);
-    const float eta_i = Hapke_eta(g.mu0, g.sin_i, e2i * den_e * inv_dens, chi, tan_t);
-    const float eta_e = Hapke_eta(g.mu, g.sin_e, e2e * sl_after(den_i, eta_i) * inv_dens, chi, tan_t);
     // the azimuth psi from t = tan(psi/2): cos psi, sin^2(psi/2), psi / pi, 1 - psi / pi, f(psi)
     const float tan_half_psi = g.tan_half_psi, t2 = tan_half_psi * tan_half_psi;
     const float inv_1pt2 = 1.0f / (1.0f + t2);
     const float c = (1.0f - t2) * inv_1pt2;
     const float sin2_half_psi = t2 * inv_1pt2;
     float atan_inv;   // atan(1 / tan(psi/2)): psi = 0 gives pi/2, so 1 - psi/pi = 1
-    const float psi_over_pi = 2.0f * Pho_atan_and_atan_inv(tan_half_psi, &atan_inv) / PHO_PI;
-    const float one_minus_psi_over_pi = 2.0f * atan_inv / PHO_PI;
+    const float psi_over_pi = (2.0f / PHO_PI) * Pho_atan_and_atan_inv(tan_half_psi, &atan_inv);
+    const float one_minus_psi_over_pi = (2.0f / PHO_PI) * atan_inv;
     // f(psi) = exp(-2 tan(psi/2)) (Hapke 1984, eq. 50), used as 1 - f: at grazing with a large theta-bar, S
     // depends on 1 - f ~ psi against q ~ chi mu0 / eta_i, both tiny; 1 - Pho_exp(.) would round 1 - f to 0 for
     // psi < 6e-8 rad
@@ -273,20 +291,26 @@ SL_INLINE float Hapke_roughness(sl_pho g, float chi, float tan_t, float k1, floa
     const float om1_near = i_le_e ? om1e : om1i, om1_far = i_le_e ? om1i : om1e;   // 1 - E1 of e, i (i <= e)
     const float e2_near = i_le_e ? e2e : e2i, e2_far = i_le_e ? e2i : e2e;         // E2 of e, i (i <= e)
     const float den = om1_near + one_minus_psi_over_pi + psi_over_pi * om1_far;   // 2 - E1(e) - (psi/pi) E1(i)
-    const float tan_t_over_den = tan_t / den;   // one division for both cosines
+    // one division for 1 / den (den >= 2e-18 / pi: tan(psi/2) <= PHO_TAN_MAX) and 1 / ((2 - E1(i)) (2 - E1(e))),
+    // the latter in [1/4, 1]: their product cannot overflow or underflow
+    const float inv_all = 1.0f / (den * (den_i * den_e));
+    const float tan_t_over_den = tan_t * (den_i * den_e) * inv_all, inv_dens = den * inv_all;
+    const float eta_i = Hapke_eta_over_chi(g.mu0, g.sin_i, e2i * den_e * inv_dens, tan_t);   // eta(i) / chi
+    const float eta_e = Hapke_eta_over_chi(g.mu, g.sin_e, e2e * sl_after(den_i, eta_i) * inv_dens, tan_t);
     // i <= e: mu0e takes cos psi E2(e) + sin^2(psi/2) E2(i), mue E2(e) - sin^2(psi/2) E2(i); i > e the other way
     const float sum = c * e2_near + sin2_half_psi * e2_far, diff = e2_near - sin2_half_psi * e2_far;
     const float mu0e = fmax(chi * (g.mu0 + g.sin_i * tan_t_over_den * (i_le_e ? sum : diff)), 0.0f);
     // mue after mu0e (sl_after, with a finite dependence: fmin(NaN or Inf, 1) is a number): the two floors side by
     // side are packed into <2 x float> on AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
-    const float mue_raw = chi * (g.mu + g.sin_e * tan_t_over_den * (i_le_e ? diff : sum));
-    const float mue = fmax(sl_after(mue_raw, fmin(mu0e, 1.0f)), 0.0f);
-    const float q = chi * (i_le_e ? g.mu0 : g.mu) / (i_le_e ? eta_i : eta_e);   // one division, selected operands
-    // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q)
-    // with two divisions: eta_i (1 - f + f q) = (1 - f) eta_i + f chi mu0 (i <= e; eta_i >= chi mu0) is at least as
-    // large as the numerator mu0 chi's own scale, so the product cannot underflow where the three quotients did not
-    // (folding eta_e in as well could: eta_e eta_i q ~ mu0 tan^2(theta-bar) at grazing with a tiny theta-bar)
-    const float S = (mue / eta_e) * (g.mu0 * chi) / (eta_i * (one_minus_f + (1.0f - one_minus_f) * q));
+    const float mue_over_chi = fmax(sl_after(g.mu + g.sin_e * tan_t_over_den * (i_le_e ? diff : sum), fmin(mu0e, 1.0f)), 0.0f);
+    const float mue = chi * mue_over_chi;
+    // S = (mue / eta_e) (mu0 / eta_i) chi / (1 - f + f q),  q = chi mu0 / eta_i (i <= e) or chi mu / eta_e (i > e):
+    // as one quotient, with eta_sel the eta of q and eta_other the other one,
+    //   S = mue mu0 chi / (eta_other ((1 - f) eta_sel + f chi mu_sel)),
+    // formed from eta / chi and mue / chi (chi cancels): the denominator is at least mu0 mu (eta / chi >= the
+    // cosine), so it keeps its scale at theta-bar -> 90 deg, where chi -> 0 (chi^2 mu0 mu would underflow)
+    const float eta_sel = i_le_e ? eta_i : eta_e, eta_other = i_le_e ? eta_e : eta_i, mu_sel = i_le_e ? g.mu0 : g.mu;
+    const float S = mue_over_chi * g.mu0 / (eta_other * (one_minus_f * eta_sel + (1.0f - one_minus_f) * mu_sel));
     const int some = mu0e + mue > 0.0f;
     *mu0e_out = some ? mu0e : 1.0f;   // any positive pair: the law is multiplied by S = 0 there
     *mue_out = some ? mue : 1.0f;
