@@ -205,6 +205,9 @@ ModelFamily register_planetary_family() {
         hapke_leg_model(),
         hapke_2012_model(),
     };
+    // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
+    // "Two chains"; hapke_leg lost 8% at 16M fragments with two)
+    use_two_chains(family, {"hapke_hen", "hapke_2012"});
     return family;
 }
 
