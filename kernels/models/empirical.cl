@@ -82,7 +82,7 @@ SL_INLINE float lunar_lambert_empirical_pho(sl_pho g, __global const float* rest
     SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc,       \
                                   __global const float* restrict tab) {                                       \
         (void)P;                                                                                               \
-        return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), tab));                               \
+        return sl_albedo_times(mc, model##_pho(Pho_from_vectors_phase(N, L, V), tab));                               \
     }
 EMP_CATALOGUE_EVAL(minnaert_empirical)
 EMP_CATALOGUE_EVAL(lunar_lambert_empirical)

@@ -29,7 +29,7 @@ SL_INLINE float lunar_lambert_pho(sl_pho g, const ModelConsts* mc) {
 }
 
 // value = albedo * law(photometric quantities of N, L, V) (planetary.cl's entry-point pattern)
-PHO_CATALOGUE_EVAL(lommel_seeliger)
-PHO_CATALOGUE_EVAL(lunar_lambert)
+PHO_CATALOGUE_EVAL_WITH(lommel_seeliger, Pho_from_vectors_phase)
+PHO_CATALOGUE_EVAL_WITH(lunar_lambert, Pho_from_vectors_phase)
 
 #endif

@@ -66,6 +66,25 @@ SL_INLINE sl_pho Pho_from_vectors(sl_v3 N, sl_v3 L, sl_v3 V) {
     return g;
 }
 
+// The geometry of the laws of mu0, mu and the phase angle only (Lommel-Seeliger, Lunar-Lambert, McEwen's laws,
+// the empirical tables): mu0, mu, cos g and tan(g/2) as Pho_from_vectors forms them; sin i, sin e and tan(psi/2)
+// are not formed (0). Pho_from_vectors ties V to sin i (|N x L|) to keep LLVM's SLP vectoriser from pairing the
+// two dot products; here V is tied to mu0, so a law that needs no sine does not pay for the cross product and
+// its square root.
+SL_INLINE sl_pho Pho_from_vectors_phase(sl_v3 N, sl_v3 L, sl_v3 V) {
+    sl_pho g;
+    g.mu0 = sl_dot(N, L);
+    const sl_v3 Va = sl_v3_make(sl_after(V.x, g.mu0), sl_after(V.y, g.mu0), sl_after(V.z, g.mu0));
+    g.mu = sl_dot(N, Va);
+    g.cos_g = sl_dot(L, Va);
+    const sl_v3 d = sl_sub(L, Va), s = sl_add(L, Va);
+    g.tan_half_g = fmin(sqrt(sl_dot(d, d) / sl_dot(s, s)), PHO_TAN_MAX);   // d/0 = inf, clamped (g = 180)
+    g.sin_i = 0.0f;
+    g.sin_e = 0.0f;
+    g.tan_half_psi = 0.0f;
+    return g;
+}
+
 // The surface is lit and seen: the laws are defined for mu0 > 0 and mu > 0 only, and return 0 elsewhere.
 SL_INLINE int Pho_visible(sl_pho g) { return g.mu0 > 0.0f && g.mu > 0.0f; }
 
@@ -79,26 +98,32 @@ SL_INLINE float Pho_atan_poly(float z) {
     const float p = ((8.05374449538e-2f * z2 - 1.38776856032e-1f) * z2 + 1.99777106478e-1f) * z2 - 3.33329491539e-1f;
     return p * z2 * z + z;
 }
-SL_INLINE float Pho_atan(float x) {
-    const int big = x > 2.414213562373095f, mid = x > 0.4142135623730950f;
-    const float z = big ? -1.0f / x : (mid ? (x - 1.0f) / (x + 1.0f) : x);
-    const float y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
-    return y0 + Pho_atan_poly(z);
-}
 
-// atan x and atan(1/x) = pi/2 - atan x for x >= 0 (inf included) from one reduction, with one division: the
-// reduced argument is the quotient of a selected numerator and denominator (-1 / x, (x - 1) / (x + 1) or x / 1,
-// the last exact), where Pho_atan's select between quotients computes both divisions in every lane. With
-// atan x = y0 + a, atan(1/x) = (pi/2 - y0) - a, where pi/2 - y0 is exactly 0 (x > tan(3pi/8): then atan(1/x) =
-// -a, atan(1/x)'s own polynomial, no cancellation), pi/4 (|a| <= pi/8) or pi/2 (a <= pi/8): never a difference
-// of near-equal numbers, so atan(1/x) keeps its relative accuracy as x -> inf. (Only for Hapke's azimuth:
-// McEwen's phase angle through this one-division form measured 0.4-0.5x Pho_atan's speed in bench_photometry.)
-SL_INLINE float Pho_atan_and_atan_inv(float x, float* atan_inv) {
+// The reduction with one division: z is the quotient of a selected numerator and denominator (-1 / x,
+// (x - 1) / (x + 1) or x / 1, the last exact), the same z as a select between the three quotients, which would
+// compute both divisions in every lane. Returns atan z and sets *y0 (atan x = y0 + atan z).
+SL_INLINE float Pho_atan_reduced(float x, float* y0) {
     const int big = x > 2.414213562373095f, mid = x > 0.4142135623730950f;
     const float num = big ? -1.0f : (mid ? x - 1.0f : x);
     const float den = big ? x : (mid ? x + 1.0f : 1.0f);
-    const float y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
-    const float a = Pho_atan_poly(num / den);
+    *y0 = big ? 0.5f * PHO_PI : (mid ? 0.25f * PHO_PI : 0.0f);
+    return Pho_atan_poly(num / den);
+}
+// (the one-division form against the select between quotients, bench_models 1M precise, two alternating rounds:
+// lunar_lambert_mcewen 1.10-1.15x, lunar_lambert_mcewen_ratio 1.05-1.12x, the same values bit for bit)
+SL_INLINE float Pho_atan(float x) {
+    float y0;
+    const float a = Pho_atan_reduced(x, &y0);
+    return y0 + a;
+}
+
+// atan x and atan(1/x) = pi/2 - atan x for x >= 0 (inf included) from one reduction: with atan x = y0 + a,
+// atan(1/x) = (pi/2 - y0) - a, where pi/2 - y0 is exactly 0 (x > tan(3pi/8): then atan(1/x) = -a, atan(1/x)'s
+// own polynomial, no cancellation), pi/4 (|a| <= pi/8) or pi/2 (a <= pi/8): never a difference of near-equal
+// numbers, so atan(1/x) keeps its relative accuracy as x -> inf.
+SL_INLINE float Pho_atan_and_atan_inv(float x, float* atan_inv) {
+    float y0;
+    const float a = Pho_atan_reduced(x, &y0);
     *atan_inv = (0.5f * PHO_PI - y0) - a;
     return y0 + a;
 }
@@ -165,12 +190,12 @@ SL_INLINE float Pho_McEwen_L(float g_deg, float m1, float m2, float m3) {
 // Minnaert's law with each cosine's power held below eps (the guard of kernels/models/minnaert.cl, applied here
 // to the empirical K(g) law, whose K may be < 1): mu0 (mu0 mu)^(K-1). eps = 1e-3 for K < 1, else no guard.
 SL_INLINE float Pho_Minnaert(float mu0, float mu, float k) {
-    const float eps = k < 1.0f ? 1.0e-3f : 0.0f;
-    const float taper0 = mu0 < eps ? mu0 / eps : 1.0f;
+    const float eps = k < 1.0f ? 1.0e-3f : 0.0f;   // (the tapers multiply by 1/eps = 1000: mu0 < eps > 0 there)
+    const float taper0 = mu0 < eps ? mu0 * 1.0e3f : 1.0f;
     // mu's half after mu0's (sl_after, on a finite dependence): side by side they are packed into <2 x float> on
     // AVX2 hosts (pthread-haswell), which stops the work-item loop vectoriser
     const float mu_after = sl_after(mu, fmin(fabs(taper0), 1.0f));
-    const float taper = taper0 * (mu_after < eps ? mu_after / eps : 1.0f);
+    const float taper = taper0 * (mu_after < eps ? mu_after * 1.0e3f : 1.0f);
     return mu0 * pow_nonneg(fmax(mu0, eps) * fmax(mu_after, eps), k - 1.0f) * taper;
 }
 
@@ -450,13 +475,15 @@ SL_INLINE float hapke_2012_pho(sl_pho g, const ModelConsts* mc) {
 }
 
 // ---- the catalogue's entry points: value = albedo * law(photometric quantities of N, L, V) --------------------
-#define PHO_CATALOGUE_EVAL(model)                                                                             \
+// (PHO_CATALOGUE_EVAL_WITH names the geometry: Pho_from_vectors_phase for the laws of mu0, mu and g only.)
+#define PHO_CATALOGUE_EVAL_WITH(model, geometry)                                                              \
     SL_INLINE sl_rgb model##_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, const ModelConsts* mc) {     \
         (void)P;                                                                                              \
-        return sl_albedo_times(mc, model##_pho(Pho_from_vectors(N, L, V), mc));                                \
+        return sl_albedo_times(mc, model##_pho(geometry(N, L, V), mc));                                        \
     }
-PHO_CATALOGUE_EVAL(lunar_lambert_mcewen)
-PHO_CATALOGUE_EVAL(lunar_lambert_mcewen_ratio)
+#define PHO_CATALOGUE_EVAL(model) PHO_CATALOGUE_EVAL_WITH(model, Pho_from_vectors)
+PHO_CATALOGUE_EVAL_WITH(lunar_lambert_mcewen, Pho_from_vectors_phase)
+PHO_CATALOGUE_EVAL_WITH(lunar_lambert_mcewen_ratio, Pho_from_vectors_phase)
 PHO_CATALOGUE_EVAL(hapke_hen)
 PHO_CATALOGUE_EVAL(hapke_leg)
 PHO_CATALOGUE_EVAL(hapke_2012)
