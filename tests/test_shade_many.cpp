@@ -339,6 +339,21 @@ TEST_CASE("shade: streaming stores give plain stores' pixels, bit for bit, for e
         test::ScopedEnv env("SHADELAB_STREAM_STORES", "");
         CHECK_FALSE(Shader::streams_output(1 << 20));   // 12 MB of output: kept in the cache
         CHECK(Shader::streams_output((Shader::kStreamOutputBytes + 11) / 12));
+        // a model registered with plain stores (ModelInfo::plain_stores) keeps them past the threshold; the others
+        // stream there, and the variable still sets every model's
+        const std::size_t big = (Shader::kStreamOutputBytes + 11) / 12;
+        std::size_t plain_models = 0;
+        for (const auto& info : model_catalogue()) {
+            INFO("model " << info.name);
+            CHECK(Shader::streams_output(info, big) == !info.plain_stores);
+            CHECK_FALSE(Shader::streams_output(info, 1 << 20));
+            plain_models += info.plain_stores ? 1 : 0;
+        }
+        CHECK(find_model("hapke_leg").plain_stores);
+        CHECK_FALSE(find_model("lambert").plain_stores);
+        CHECK(plain_models < model_catalogue().size() / 2);
+        test::ScopedEnv on("SHADELAB_STREAM_STORES", "1");
+        CHECK(Shader::streams_output(find_model("hapke_leg"), 1));
     }
     test::ScopedEnv env("SHADELAB_STREAM_STORES", "yes");
     CHECK_THROWS_WITH(Shader::streams_output(1), Catch::Contains("SHADELAB_STREAM_STORES is 'yes'") &&

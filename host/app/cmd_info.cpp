@@ -96,6 +96,14 @@ std::string two_chain_models() {
     return out.empty() ? "none" : out;
 }
 
+// The models that keep plain stores at every size (ModelInfo::plain_stores), comma-separated, or "none".
+std::string plain_store_models() {
+    std::string out;
+    for (const auto& info : model_catalogue())
+        if (info.plain_stores) out += (out.empty() ? "" : ", ") + info.name;
+    return out.empty() ? "none" : out;
+}
+
 }  // namespace
 
 void require_model_name(const std::string& name, const std::string& option) {
@@ -150,7 +158,8 @@ void add_devices_command(CLI::App& app) {
                                     : "streaming (non-temporal) where a launch's shaded planes reach " +
                                           std::to_string(Shader::kStreamOutputBytes >> 20) + " MB (" +
                                           std::to_string((Shader::kStreamOutputBytes + 11) / 12) +
-                                          " fragments), plain below")
+                                          " fragments), plain below and for " + plain_store_models() +
+                                          " (measured slower streamed)")
                   << " (SHADELAB_STREAM_STORES=0 or 1 sets every launch's)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });

@@ -39,14 +39,25 @@ const std::vector<ModelFamily>& model_families() {
     return all;
 }
 
+namespace {
+
+// The model of `family` named `name`; throws shadelab::Error naming what it was looked up for.
+ModelInfo& family_model(ModelFamily& family, const std::string& name, const char* what) {
+    const auto it = std::find_if(family.models.begin(), family.models.end(),
+                                 [&](const ModelInfo& m) { return m.name == name; });
+    if (it == family.models.end())
+        throw Error("internal: family '" + family.name + "' has no model '" + name + "' to " + what);
+    return *it;
+}
+
+}  // namespace
+
 void use_two_chains(ModelFamily& family, const std::vector<std::string>& names) {
-    for (const std::string& name : names) {
-        const auto it = std::find_if(family.models.begin(), family.models.end(),
-                                     [&](const ModelInfo& m) { return m.name == name; });
-        if (it == family.models.end())
-            throw Error("internal: family '" + family.name + "' has no model '" + name + "' to give two chains");
-        it->chains = 2;
-    }
+    for (const std::string& name : names) family_model(family, name, "give two chains").chains = 2;
+}
+
+void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names) {
+    for (const std::string& name : names) family_model(family, name, "give plain stores").plain_stores = true;
 }
 
 const std::vector<ModelInfo>& model_catalogue() {

@@ -107,6 +107,10 @@ struct ModelInfo {
     // for the others, which a second chain slowed (the models near memory speed). Chosen by measuring each model
     // at both (docs/speed.md, "Two chains"); Shader::frags_per_item.
     int chains = 1;
+    // Its shaded planes are written with plain stores at every size: streaming (non-temporal) stores, which the
+    // launches past the cache use (Shader::streams_output), measured slower for it (docs/speed.md, "Streaming
+    // stores"). Set by its family's registration (use_plain_stores).
+    bool plain_stores = false;
     std::vector<PrecisionBound> precision;   // kernel vs reference, both modes (see PrecisionBound)
     std::string doc;       // its documentation page from the repository root (set from its family's)
 };
@@ -126,6 +130,10 @@ const std::vector<ModelFamily>& model_families();
 // Sets ModelInfo::chains = 2 for the named models of `family` (its registration's last step); throws
 // shadelab::Error for a name that is not one of its models.
 void use_two_chains(ModelFamily& family, const std::vector<std::string>& names);
+
+// Sets ModelInfo::plain_stores for the named models of `family` (its registration's last step); throws
+// shadelab::Error for a name that is not one of its models.
+void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names);
 
 // Every model, family by family (by rank), each family's in its registered order.
 const std::vector<ModelInfo>& model_catalogue();

@@ -269,6 +269,11 @@ bool Shader::streams_output(std::size_t n) {
         .value_or(3 * n * sizeof(float) >= kStreamOutputBytes);
 }
 
+bool Shader::streams_output(const ModelInfo& info, std::size_t n) {
+    return env_switch("SHADELAB_STREAM_STORES", "0", "1", "plain or streaming stores of the shaded planes")
+        .value_or(!info.plain_stores && 3 * n * sizeof(float) >= kStreamOutputBytes);
+}
+
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
     const std::size_t lanes = lanes_for(info.normals_only, device_width);
     return lanes > 1 ? lanes * chains_for(info) : 1;   // kernels/common.cl: no second chain at one lane
@@ -412,7 +417,8 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     const std::size_t local = setup.local_size == 0 ? kLocalSize : setup.local_size;
     const std::size_t group = local == kLocalAuto ? kLocalSize : local;
     // fragments a work-item: the program's SL_FRAGS_PER_ITEM (kernels/common.cl)
-    const std::size_t per_item = frags_per_item(find_model(mat.model), rt_.vector_width());
+    const ModelInfo& info = find_model(mat.model);
+    const std::size_t per_item = frags_per_item(info, rt_.vector_width());
     if (group % per_item != 0)
         throw Error("work-group size " + std::to_string(group) + " is not a multiple of the " +
                     std::to_string(per_item) + " fragments a work-item shades on this device: use a multiple of " +
@@ -423,7 +429,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     size_for_frame(out, 3 * n);
     // Streamed, the body starts at the first fragment whose red output begins a 64-byte line (kernels/common.cl,
     // sl_store_block, streams aligned blocks only); the `head` before it goes with the tail into the rest launch.
-    const bool stream = streams_output(n);
+    const bool stream = streams_output(info, n);
     const std::size_t head = stream ? fragments_to_line(out.data(), n) : 0;
     const std::size_t body = (n - head) / group * group, tail = n - head - body, rest_n = round_up(head + tail, group);
     std::vector<float> rest_out(3 * rest_n);

@@ -96,6 +96,9 @@ public:
     // shadelab::Error on any other value of it. docs/speed.md, "Streaming stores".
     static constexpr std::size_t kStreamOutputBytes = std::size_t(32) << 20;
     static bool streams_output(std::size_t n);
+    // The same for a launch of `info`'s kernel: plain stores at every size for a model with
+    // ModelInfo::plain_stores (streaming measured slower for it), unless SHADELAB_STREAM_STORES sets it.
+    static bool streams_output(const ModelInfo& info, std::size_t n);
 
     // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
     // returns rgb interleaved (3n floats). Used by the kernel-vs-reference sweeps.
