@@ -340,12 +340,12 @@ SL_INLINE float sl_acos(float x) {
 // item loop vectoriser cannot widen. All three forms here compute
 //   x^y = 2^(y log2 x),  x = 2^e m,  m in [sqrt(1/2), sqrt(2)),
 //   log2 m = (2 / ln 2) atanh(s) = (2 / ln 2) (s + s^3/3 + s^5/5 + ...),  s = (m - 1) / (m + 1),  |s| <= 0.1716
-// (Abramowitz & Stegun 4.1.27), 2^t = 2^k e^(f ln 2) with k = rint(t) by Taylor series, with no tables, no
-// data-dependent branches and no calls, so they vectorise with the model (sl_fast_pow: m in [2/3, 4/3), and
-// fitted polynomials in place of both series). They differ in how much of
+// (Abramowitz & Stegun 4.1.27), 2^t = 2^k 2^f with k = rint(t) (sl_pow_cr: e^(f ln 2) by Taylor series; the float
+// forms: a polynomial fitted to 2^f), with no tables, no data-dependent branches and no calls, so they vectorise
+// with the model (sl_fast_pow: m in [2/3, 4/3), and a fitted polynomial for log2 too). They differ in how much of
 // y log2 x they keep, which sets the error: a rounding dt of t = y log2 x is a relative error ln 2 dt of the
 // result, and a float t is rounded to 2^-24 |t|, |t| = -log2(result) (up to 126 for results near 2^-126).
-//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.8 ulp for results
+//   sl_pow      precise mode: float arithmetic, t carried as a float-float pair (hi + lo): 1.3 ulp for results
 //               >= 2^-10, 4.1 ulp below (measured and asserted: docs/precision.md, tests/test_precision.cpp)
 //   sl_fast_pow fast mode: plain float, t rounded to one float: error growing with |t| (stated and asserted there);
 //               finite x >= 0 and finite y only (-ffinite-math-only's contract: every model's base is such a value)
@@ -387,17 +387,14 @@ SL_INLINE float sl_split_log2(float x, float* e) {
     return big ? 0.5f * m0 : m0;
 }
 
-// 2^k as a product of two exponent-field factors (each normal for k in [-126, 130]).
-SL_INLINE float sl_scale_exp2(float p, float k) {
-    const int ki = (int)k, k1 = ki >> 1;   // floor(k / 2): the two factors still multiply to 2^k
-    return p * as_float((k1 + 127) << 23) * as_float((ki - k1 + 127) << 23);
-}
-
-// e^g for |g| <= 0.35 by its Taylor series to g^7/7! (remainder < 6e-9 relative), Estrin's scheme.
-SL_INLINE float sl_exp_taylor7(float g) {
-    const float g2 = g * g, g4 = g2 * g2;
-    return fma(g2, fma(g, 1.0f / 6.0f, 0.5f), 1.0f + g) +
-           g4 * fma(g2, fma(g, 1.0f / 5040.0f, 1.0f / 720.0f), fma(g, 1.0f / 120.0f, 1.0f / 24.0f));
+// 2^f for |f| <= 1/2 (and the few ulps of a float-float low part beyond) as 1 + f Q(f), Q of degree 5 fitted to
+// (2^f - 1) / f for the relative error of 2^f (Lawson-weighted least squares: 1.1e-8), by Estrin's scheme: no
+// multiplication by ln 2 (the Taylor series of e^(f ln 2) to degree 7 it replaces took one, and 6e-9).
+SL_INLINE float sl_exp2_poly(float f) {
+    const float f2 = f * f;
+    const float q01 = fma(2.402264923e-1f, f, 6.931471825e-1f), q23 = fma(9.618237615e-3f, f, 5.550357327e-2f);
+    const float q45 = fma(1.540348021e-4f, f, 1.339071780e-3f);
+    return fma(f, fma(f2 * f2, q45, fma(f2, q23, q01)), 1.0f);
 }
 
 // ---- sl_pow (precise mode): float, the exponent as a float-float pair
@@ -427,20 +424,24 @@ SL_INLINE float sl_log2_ff(float x, float* lo) {
     return hi;
 }
 
-// 2^(t + t_lo) for t in [-126, 130] (0 below: flush to zero; clamped above, beyond the float range):
-// k = rint(t) by the 1.5 * 2^23 shift, f = (t - k) + t_lo (t - k exact), 2^f = e^(f ln 2).
+// 2^(t + t_lo) for t in [-126, 128) (0 below: flush to zero; +inf from 128 on, beyond the float range):
+// k = rint(t) by the 1.5 * 2^23 shift, f = (t - k) + t_lo (t - k exact), 2^f by sl_exp2_poly, and k added to its
+// exponent field: the shifted sum's low bits are k in two's complement, so shifting them up by 23 and adding
+// (modulo 2^32) scales by 2^k with no conversion and no multiplication. 2^f is in [2^-1/2, 2^1/2], so the sum is
+// a normal float for k in [-126, 127]; k = 128 comes with f < 0 for t in [127.5, 128) (|t_lo| is below 2^-16),
+// which gives at most 2^128 (1 - 2^-24), the largest float.
 SL_INLINE float sl_exp2_ff(float t, float t_lo) {
-    // Clamped to [-126, 130]: below -126 the result is flushed to zero (above), and clamping there (not lower),
-    // with the low part dropped in the clamped lanes, keeps every lane's scaled value a normal float (a clamped
-    // lane computes exactly 2^-126), so no lane computes a denormal it then throws away. (With the low part kept,
-    // a clamped lane's 2^(t_lo) < 1 times 2^-126 was a denormal: on the code PoCL generates for AVX2 hosts each
-    // such vector multiply took a microcode assist, and phong and blinn_phong ran precise mode at 0.4x: docs/speed.md,
+    // Clamped at -126: below it the result is flushed to zero (above), and clamping there (not lower), with the
+    // low part dropped in the clamped lanes, keeps every lane's scaled value a normal float (a clamped lane
+    // computes exactly 2^-126), so no lane computes a denormal it then throws away. (With the low part kept, a
+    // clamped lane's 2^(t_lo) < 1 times 2^-126 was a denormal: on the code PoCL generates for AVX2 hosts each such
+    // vector multiply took a microcode assist, and phong and blinn_phong ran precise mode at 0.4x: docs/speed.md,
     // "The AVX2 check".)
-    const float tc = fmin(fmax(t, -126.0f), 130.0f);
-    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float tc = fmin(fmax(t, -126.0f), 128.0f);
+    const float shifted = tc + 12582912.0f, k = shifted - 12582912.0f;
     const float lo = t < -126.0f ? 0.0f : t_lo;
-    const float r = sl_scale_exp2(sl_exp_taylor7(((tc - k) + lo) * 0.693147181f), k);
-    return t < -126.0f ? 0.0f : r;
+    const float r = as_float(as_uint(sl_exp2_poly((tc - k) + lo)) + (as_uint(shifted) << 23));
+    return t < -126.0f ? 0.0f : (t >= 128.0f ? INFINITY : r);
 }
 
 // x^y by the formula, for finite x > 0 and finite y (any other x: a finite value of no meaning).
@@ -485,7 +486,7 @@ SL_INLINE float sl_log2_f(float x) {
 // for |f| <= 1/2 by a polynomial of degree 5 in f itself, 1 + f Q(f), Q fitted to (2^f - 1) / f for the relative
 // error of 2^f (9.2e-8 for the fit, 1.9e-7 evaluated in float): no multiplication by ln 2 and five fmas where
 // the Taylor series of e^g needs degree 7. p(0) = 1, so an integer t gives 2^t exactly. 2^k is added to p's
-// exponent field (one integer add where sl_scale_exp2 builds and multiplies two factors): p is in [2^-1/2, 2^1/2],
+// exponent field (one integer add, as in sl_exp2_ff): p is in [2^-1/2, 2^1/2],
 // so the sum stays a normal float for k in [-126, 127], and k = 128 with f <= 0 gives at most 2^128 = +inf.
 SL_INLINE float sl_exp2_f(float t) {
     const float tc = fmin(fmax(t, -126.0f), 128.0f);
