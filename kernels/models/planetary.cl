@@ -131,18 +131,14 @@ SL_INLINE float Pho_atan_and_atan_inv(float x, float* atan_inv) {
 // 2^t for t in [-126, 0] (PHO_EXP2_MIN: the laws only take exponentials of non-positive numbers, and the float
 // range ends at 2^-126): t = k + f, k = rint(t) by the 1.5 * 2^23 shift (the sum's low bits are k in two's
 // complement, so shifting them into the exponent field builds 2^k with no conversion), |f| <= 1/2, and 2^f - 1 =
-// f Q(f), Q of degree 5 fitted for relative error on [-1/2, 1/2] (Lawson-weighted least squares: 1.1e-8, 1.6e-7
-// evaluated in float). Returns 2^k and sets *fq = f Q(f), so that 2^t = 2^k (1 + fq) and 1 - 2^t = (1 - 2^k) -
-// 2^k fq, which keeps its relative accuracy as t -> 0 (k = 0: -fq, no cancellation).
+// f Q(f), Q common.cl's sl_exp2_q (fitted for relative error on [-1/2, 1/2]). Returns 2^k and sets *fq = f Q(f),
+// so that 2^t = 2^k (1 + fq) and 1 - 2^t = (1 - 2^k) - 2^k fq, which keeps its relative accuracy as t -> 0
+// (k = 0: -fq, no cancellation).
 #define PHO_EXP2_MIN (-126.0f)
 SL_INLINE float Pho_exp2_parts(float t, float* fq) {
     const float shifted = t + 12582912.0f, k = shifted - 12582912.0f;
     const float f = t - k;
-    // Estrin's scheme: the three pairs are independent, so the chain is 4 operations deep where Horner's is 6
-    const float f2 = f * f;
-    const float q01 = fma(2.402264923e-1f, f, 6.931471825e-1f), q23 = fma(9.618237615e-3f, f, 5.550357327e-2f);
-    const float q45 = fma(1.540348021e-4f, f, 1.339071780e-3f);
-    *fq = f * fma(f2 * f2, q45, fma(f2, q23, q01));
+    *fq = f * sl_exp2_q(f);
     return as_float((as_uint(shifted) << 23) + 0x3f800000u);   // unsigned: the shift wraps by definition
 }
 
