@@ -126,8 +126,12 @@ struct KernelRun {
 KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     const std::size_t n = r.mu0.size();
     const ModelInfo& info = find_model(law.material.model);
-    cl::Program prog = rt.build("photometry.cl", {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
-                                                  "SL_PHO_EVAL=" + law.material.model + "_pho"});
+    // the law's chains a work-item, as `photometry eval` and the fits run it (photometry::pho_chains)
+    const std::size_t chains = photometry::pho_chains(law);
+    std::vector<std::string> defines = {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
+                                        "SL_PHO_EVAL=" + law.material.model + "_pho"};
+    if (chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
+    cl::Program prog = rt.build("photometry.cl", defines);
     const auto consts = pack_material(law.material);
     std::vector<cl::Buffer> in;
     for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})
@@ -142,13 +146,13 @@ KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     k.setArg(8, cl_uint(n));
     k.setArg(9, bc);
     // make_rows pads to a multiple of 256 (the kernel has no bounds check); the first launch compiles
-    photometry::enqueue_rows(rt, k, n, 256);
+    photometry::enqueue_rows(rt, k, n, 256, 0, false, chains);
     rt.queue().finish();
     double best = 1e30;
     const double c0 = cpu_seconds();
     for (int rep = 0; rep < 5; ++rep) {
         const auto t0 = clock_type::now();
-        photometry::enqueue_rows(rt, k, n, 256);
+        photometry::enqueue_rows(rt, k, n, 256, 0, false, chains);
         rt.queue().finish();
         best = std::min(best, seconds(t0, clock_type::now()));
     }

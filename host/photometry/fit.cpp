@@ -43,6 +43,7 @@ public:
         : rt_(rt), base_(base), n_(rows.size()), padded_(round_up(rows.size(), kLocal)) {
         Law law;
         law.material = base;
+        chains_ = pho_chains(law);
         const PhoArrays p = pho_arrays(law, rows, 0, n_, padded_);
         try {
             prog_ = rt.build("photometry.cl", pho_defines(law, precision, false), Shader::options_for(precision));
@@ -77,7 +78,7 @@ public:
                 k.setArg(7, bo);
                 k.setArg(8, cl_uint(padded_));
                 k.setArg(9, bc);
-                enqueue_rows(rt_, k, padded_, kLocal, ns);
+                enqueue_rows(rt_, k, padded_, kLocal, ns, false, chains_);
                 std::vector<float> flat(ns * padded_);
                 rt_.queue().enqueueReadBuffer(bo, CL_TRUE, 0, flat.size() * sizeof(float), flat.data());
                 for (std::size_t s = 0; s < ns; ++s)
@@ -98,7 +99,7 @@ private:
     static constexpr std::size_t kLocal = 256, kMaxSets = 32;
     Runtime& rt_;
     Material base_;
-    std::size_t n_, padded_;
+    std::size_t n_, padded_, chains_ = 1;
     cl::Program prog_;
     std::vector<cl::Buffer> rows_;
 };

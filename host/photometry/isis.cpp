@@ -401,12 +401,18 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
     }
     if (precision == Precision::Fast) defines.push_back("SL_FAST=1");
     if (raw) defines.push_back("SL_PHO_RAW=1");
+    if (pho_chains(law) > 1) defines.push_back("SL_CHAINS=" + std::to_string(pho_chains(law)));
     return defines;
 }
 
+std::size_t pho_chains(const Law& law) {
+    return law.empirical ? 1 : Shader::chains_for(find_model(law.material.model));
+}
+
 void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets,
-                  bool one_per_item) {
-    const std::size_t per_item = one_per_item ? 1 : rt.vector_width();
+                  bool one_per_item, std::size_t chains) {
+    // kernels/common.cl: no second chain at one lane
+    const std::size_t lanes = rt.vector_width(), per_item = one_per_item ? 1 : (lanes > 1 ? lanes * chains : 1);
     const cl::NDRange global = sets ? cl::NDRange(rows / per_item, sets) : cl::NDRange(rows / per_item);
     const cl::NDRange group = sets ? cl::NDRange(local / per_item, 1) : cl::NDRange(local / per_item);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, group);
@@ -447,7 +453,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 k.setArg(8, cl_uint(n));
                 k.setArg(9, keep.back());
             }
-            enqueue_rows(rt, k, padded, local, 0, law.empirical != 0);
+            enqueue_rows(rt, k, padded, local, 0, law.empirical != 0, pho_chains(law));
             std::vector<float> out(n);
             rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
             for (std::size_t j = 0; j < n; ++j) result[first + j] = out[j];

@@ -78,13 +78,18 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
                      std::size_t padded);
 // The defines kernels/photometry.cl is built with for this law.
 std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw);
+// The chains of lanes a work-item of eval_photometric(_sets) runs for this law: its catalogue model's
+// (Shader::chains_for: 2 for hapke_hen and hapke_2012, SHADELAB_CHAINS sets every law's), 1 for the empirical
+// laws; pho_defines builds the program with it.
+std::size_t pho_chains(const Law& law);
 
 // Enqueues a kernel of kernels/photometry.cl over `rows` rows (padded: a multiple of `local`, the work-group's
 // rows, since the kernels have no bounds check) and `sets` parameter sets (eval_photometric_sets' second
 // dimension; 0 for the one-dimensional kernels). eval_photometric and eval_photometric_sets take
-// rt.vector_width() rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM), eval_empirical one (`one_per_item`).
+// rt.vector_width() rows a work-item times `chains` (kernels/common.cl, SL_FRAGS_PER_ITEM; pho_chains), eval_empirical
+// one (`one_per_item`).
 void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets = 0,
-                  bool one_per_item = false);
+                  bool one_per_item = false, std::size_t chains = 1);
 
 // The law at one geometry with the double-precision references (host/reference/).
 double evaluate_reference(const Law& law, const Geometry& g);
