@@ -125,13 +125,9 @@ struct KernelRun {
 // and upload excluded), 5 launches.
 KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     const std::size_t n = r.mu0.size();
-    const ModelInfo& info = find_model(law.material.model);
-    // the law's chains a work-item, as `photometry eval` and the fits run it (photometry::pho_chains)
+    // built and launched as `photometry eval` builds and launches it (its defines, its chains a work-item)
     const std::size_t chains = photometry::pho_chains(law);
-    std::vector<std::string> defines = {"SL_MODEL_HEADER=<" + info.header + ">", "SL_EVAL=" + info.eval,
-                                        "SL_PHO_EVAL=" + law.material.model + "_pho"};
-    if (chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
-    cl::Program prog = rt.build("photometry.cl", defines);
+    cl::Program prog = rt.build("photometry.cl", photometry::pho_defines(law, Precision::Precise, false));
     const auto consts = pack_material(law.material);
     std::vector<cl::Buffer> in;
     for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})

@@ -88,20 +88,23 @@ void print_catalogue() {
     }
 }
 
-// The models shaded with two chains a work-item (Shader::chains_for), comma-separated, or "none".
-std::string two_chain_models() {
+// The catalogue's models for which `pick` holds, comma-separated, or "none".
+template <class Pick>
+std::string models_where(Pick pick) {
     std::string out;
     for (const auto& info : model_catalogue())
-        if (Shader::chains_for(info) > 1) out += (out.empty() ? "" : ", ") + info.name;
+        if (pick(info)) out += (out.empty() ? "" : ", ") + info.name;
     return out.empty() ? "none" : out;
 }
 
-// The models that keep plain stores at every size (ModelInfo::plain_stores), comma-separated, or "none".
+// The models shaded with two chains a work-item (Shader::chains_for).
+std::string two_chain_models() {
+    return models_where([](const ModelInfo& info) { return Shader::chains_for(info) > 1; });
+}
+
+// The models that keep plain stores at every size (ModelInfo::plain_stores).
 std::string plain_store_models() {
-    std::string out;
-    for (const auto& info : model_catalogue())
-        if (info.plain_stores) out += (out.empty() ? "" : ", ") + info.name;
-    return out.empty() ? "none" : out;
+    return models_where([](const ModelInfo& info) { return info.plain_stores; });
 }
 
 }  // namespace

@@ -401,7 +401,7 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
     }
     if (precision == Precision::Fast) defines.push_back("SL_FAST=1");
     if (raw) defines.push_back("SL_PHO_RAW=1");
-    if (pho_chains(law) > 1) defines.push_back("SL_CHAINS=" + std::to_string(pho_chains(law)));
+    if (const std::size_t chains = pho_chains(law); chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return defines;
 }
 

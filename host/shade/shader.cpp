@@ -270,8 +270,8 @@ bool Shader::streams_output(std::size_t n) {
 }
 
 bool Shader::streams_output(const ModelInfo& info, std::size_t n) {
-    return env_switch("SHADELAB_STREAM_STORES", "0", "1", "plain or streaming stores of the shaded planes")
-        .value_or(!info.plain_stores && 3 * n * sizeof(float) >= kStreamOutputBytes);
+    // the size rule and the variable as above; a plain-store model streams only when the variable says 1
+    return info.plain_stores ? streams_output(0) : streams_output(n);
 }
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
