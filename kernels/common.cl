@@ -156,35 +156,41 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // A plain store to a line that is not in the cache first reads the line from memory (write-allocate), so an
 // output plane larger than the cache costs its bytes twice; a non-temporal store (x86 MOVNTPS) writes whole lines
 // straight to memory. The shade kernels collect a work-item's SL_FRAGS_PER_ITEM results of a plane in a private
-// block and write it with sl_store_block: non-temporal when the host asks (`stream`: outputs past the cache,
-// Shader::streams_output) and the block starts on a boundary of its vector (64 bytes for 16 floats, 32 for 8:
-// MOVNTPS faults on a misaligned address), a plain vector store otherwise. The block, not the loop's scalar
-// stores: LLVM's loop vectoriser will not widen a non-temporal store of a float (its alignment is below the
-// vector's). docs/speed.md, "Streaming stores", has the measurements.
-#if SL_FRAGS_PER_ITEM % 16 == 0
+// block and write it with sl_store_block: non-temporal when the host says so for that plane (`streamed`: the
+// plane's bit of the kernel's `stream` mask, Shader::streams_output, set only where the plane starts on a 64-byte
+// line, so that every work-item's block does: MOVNTPS faults on a misaligned address), a plain vector store
+// otherwise. The block, not the loop's scalar stores: LLVM's loop vectoriser will not widen a non-temporal store
+// of a float (its alignment is below the vector's). It is stored one vector of SL_LANES a time, as the loop's
+// chains computed it: a 16-float load from a block that two 8-lane chains wrote as two halves waits for both
+// stores to leave the core (a failed store-to-load forward), and a load that is not known to be aligned was
+// split into 16-byte pieces. The mask is decided on the host, once a launch, not from the address in every
+// work-item: the address test and a `stream` flag together made LLVM keep the block on the stack and move it
+// in pieces. docs/speed.md, "Streaming stores", has the measurements.
+#if SL_LANES % 16 == 0
 #define SL_STORE_LINE 16
 #define SL_STORE_VEC float16
-#define SL_STORE_VLOAD vload16
 #define SL_STORE_VSTORE vstore16
-#elif SL_FRAGS_PER_ITEM % 8 == 0
+#elif SL_LANES % 8 == 0
 #define SL_STORE_LINE 8
 #define SL_STORE_VEC float8
-#define SL_STORE_VLOAD vload8
 #define SL_STORE_VSTORE vstore8
 #endif
+#define SL_STREAM_PLANE(c) (1u << (c))   // the bit of output plane c (0 r, 1 g, 2 b) in `stream`
 #ifdef SL_STORE_LINE
-SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, uint stream) {
-    if (stream && (((ulong)dst) & (SL_STORE_LINE * sizeof(float) - 1)) == 0) {
-        __global SL_STORE_VEC* line = (__global SL_STORE_VEC*)dst;
-        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j)
-            __builtin_nontemporal_store(SL_STORE_VLOAD(j, block), line + j);
+#define SL_BLOCK_ALIGN __attribute__((aligned(SL_STORE_LINE * 4)))
+SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, bool streamed) {
+    __global SL_STORE_VEC* line = (__global SL_STORE_VEC*)dst;
+    const SL_STORE_VEC* from = (const SL_STORE_VEC*)block;   // SL_BLOCK_ALIGN: an aligned vector load
+    if (streamed) {
+        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) __builtin_nontemporal_store(from[j], line + j);
     } else {
-        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) SL_STORE_VSTORE(SL_STORE_VLOAD(j, block), j, dst);
+        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) SL_STORE_VSTORE(from[j], j, dst);
     }
 }
 #else
-SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, uint stream) {
-    (void)stream;
+#define SL_BLOCK_ALIGN
+SL_INLINE void sl_store_block(__global float* restrict dst, const float* restrict block, bool streamed) {
+    (void)streamed;
     for (uint j = 0; j < SL_FRAGS_PER_ITEM; ++j) dst[j] = block[j];
 }
 #endif

@@ -24,7 +24,8 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
     // common.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
     // at one fragment a work-item the loop is gone before PoCL builds its work-item loop.
     const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
-    float out_r[SL_FRAGS_PER_ITEM], out_g[SL_FRAGS_PER_ITEM], out_b[SL_FRAGS_PER_ITEM];   // sl_store_block's
+    float out_r[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN, out_g[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN,   // sl_store_block's
+          out_b[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN;
     SL_FRAGMENT_LOOP
     for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k) {
         const size_t i = first + k;
@@ -50,7 +51,8 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
         out_g[k] = sl_finite_or_zero(g);
         out_b[k] = sl_finite_or_zero(b);
     }
-    sl_store_block(out + first, out_r, stream);   // common.cl: streamed past the cache when `stream` asks
-    sl_store_block(out + stride + first, out_g, stream);
-    sl_store_block(out + 2 * (size_t)stride + first, out_b, stream);
+    // common.cl: each plane streamed past the cache when its bit of `stream` is set
+    sl_store_block(out + first, out_r, stream & SL_STREAM_PLANE(0));
+    sl_store_block(out + stride + first, out_g, stream & SL_STREAM_PLANE(1));
+    sl_store_block(out + 2 * (size_t)stride + first, out_b, stream & SL_STREAM_PLANE(2));
 }

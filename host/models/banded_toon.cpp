@@ -141,8 +141,6 @@ ModelFamily register_banded_toon_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"banded", "banded_seed001", "toon"});
-    // plain stores at every size where streaming stores measured slower (docs/speed.md, "Streaming stores")
-    use_plain_stores(family, {"banded", "banded_seed001"});
     return family;
 }
 

@@ -272,8 +272,6 @@ ModelFamily register_oren_nayar_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"oren_nayar_blender"});
-    // plain stores at every size where streaming stores measured slower (docs/speed.md, "Streaming stores")
-    use_plain_stores(family, {"eon"});
     return family;
 }
 

@@ -5,6 +5,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -287,8 +288,19 @@ struct LaunchBuffers {
     cl::Buffer in[6];
     cl::Buffer out;
     std::size_t stride = 0;
-    bool stream = false;   // streaming stores (Shader::streams_output)
+    cl_uint stream = 0;   // the planes written with streaming stores (kernels/common.cl, SL_STREAM_PLANE)
 };
+
+// The kernel's `stream` mask for output planes that start at `plane0` and `stride` floats apart, when the launch
+// streams (Shader::streams_output): a plane's bit is set where it starts on a 64-byte line. Every work-item's
+// block then starts on a boundary of the vector it is stored in (a block is SL_FRAGS_PER_ITEM floats from the
+// plane's start, a multiple of that vector's 8 or 16 floats: kernels/common.cl, sl_store_block).
+cl_uint streamed_planes(const float* plane0, std::size_t stride, bool stream) {
+    cl_uint mask = 0;
+    for (std::size_t c = 0; stream && c < 3; ++c)
+        if (reinterpret_cast<std::uintptr_t>(plane0 + c * stride) % 64 == 0) mask |= cl_uint(1) << c;
+    return mask;
+}
 
 // The six planes of `fb`, in the kernel's argument order.
 std::array<const std::vector<float>*, 6> planes_of(const FragmentBuffer& fb) {
@@ -318,7 +330,7 @@ cl::Event enqueue_launch(cl::CommandQueue& q, cl::Kernel& k, const LaunchBuffers
     for (cl_uint c = 0; c < 6; ++c) k.setArg(c, b.in[c]);
     k.setArg(6, b.out);
     k.setArg(7, cl_uint(b.stride));
-    k.setArg(13, cl_uint(b.stream ? 1 : 0));
+    k.setArg(13, b.stream);
     cl::Event ev;
     const cl::NDRange groups = local == Shader::kLocalAuto ? cl::NullRange : cl::NDRange(local / per_item);
     q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(count / per_item), groups, nullptr, &ev);
@@ -445,7 +457,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
             main.out = cl::Buffer(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, (out.size() - head) * sizeof(float),
                                   out.data() + head);
             main.stride = n;
-            main.stream = stream;
+            main.stream = streamed_planes(out.data() + head, n, stream);
         }
         if (rest_n) {
             rest = rest_planes(ctx, fb, head, head + body, rest_n);
