@@ -109,6 +109,20 @@ SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
 // NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign of a zero x).
 SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 
+// ---- non-finite results ------------------------------------------------------------------------------------
+// A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no image
+// or table ever holds NaN/Inf (the shade kernels and the photometric ones). Without a comparison: three
+// comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts from to pack the channels into a
+// <2 x float>, and one packed instruction stops PoCL's loop vectoriser. Adding 1 to the exponent field carries
+// into the sign bit exactly when the field is 255 (Inf, NaN), and an arithmetic shift spreads that bit into the
+// mask that clears the value: four vector operations, where the former shift-mask-add-shift form took six, a
+// cost the cheap models paid three times a fragment (docs/speed.md, "A store path from registers").
+SL_INLINE float sl_finite_or_zero(float v) {
+    const uint u = as_uint(v);
+    const int nonfinite = (int)((u & 0x7f800000u) + 0x00800000u) >> 31;   // -1 iff the exponent field is all ones
+    return as_float(u & ~(uint)nonfinite);
+}
+
 // ---- several fragments a work-item: SL_VECTOR_WIDTH ----------------------------------------------------------
 // The fragments (or photometric rows) one work-item evaluates, in one loop that clang's loop vectoriser widens to
 // that many lanes (kernels/shade_fragments.cl, kernels/photometry.cl): SL_VECTOR_WIDTH, which the host's Runtime
@@ -165,7 +179,7 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // stores to leave the core (a failed store-to-load forward), and a load that is not known to be aligned was
 // split into 16-byte pieces. The mask is decided on the host, once a launch, not from the address in every
 // work-item: the address test and a `stream` flag together made LLVM keep the block on the stack and move it
-// in pieces. docs/speed.md, "Streaming stores", has the measurements.
+// in pieces. docs/speed.md, "Streaming stores" and "A store path from registers", has the measurements.
 #if SL_LANES % 16 == 0
 #define SL_STORE_LINE 16
 #define SL_STORE_VEC float16

@@ -12,15 +12,13 @@
 #include SL_MODEL_HEADER
 #include "models/planetary.cl"
 
-// A non-finite value (only from invalid input) is written as 0 (shade.cl's rule; see there). Built with
+// A non-finite value (only from invalid input) is written as 0 (common.cl's sl_finite_or_zero). Built with
 // SL_PHO_RAW=1 (the tests) the value is written as it is, so that a NaN or Inf a law produces can be counted.
 SL_INLINE float pho_finite_or_zero(float v) {
 #if defined(SL_PHO_RAW) && SL_PHO_RAW
     return v;
 #endif
-    const uint u = as_uint(v);
-    const uint nonfinite = (((u >> 23) & 0xffu) + 1u) >> 8;
-    return as_float(u & (nonfinite - 1u));
+    return sl_finite_or_zero(v);   // common.cl
 }
 
 // The law at row i of the seven arrays, written as the kernels below write it (non-finite as 0 unless SL_PHO_RAW).

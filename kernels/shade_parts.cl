@@ -24,17 +24,7 @@
 #define SL_EVAL_AT(N, L, V, P, mc) SL_EVAL(N, L, V, P, mc)
 #endif
 
-// A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no
-// image or table ever holds NaN/Inf. Without a comparison: adding 1 to the exponent field carries into the sign
-// bit exactly when the field is 255 (Inf, NaN), and an arithmetic shift spreads that bit into the mask that clears
-// the value (four vector operations; the former shift-mask-add-shift form took six, a cost the cheap models
-// paid three times a fragment: docs/speed.md, "Streaming stores"). Three comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts
-// from to pack the channels into a <2 x float>, and one packed instruction stops PoCL's loop vectoriser.
-SL_INLINE float sl_finite_or_zero(float v) {
-    const uint u = as_uint(v);
-    const int nonfinite = (int)((u & 0x7f800000u) + 0x00800000u) >> 31;   // -1 iff the exponent field is all ones
-    return as_float(u & ~(uint)nonfinite);
-}
+// sl_finite_or_zero (kernels/common.cl) writes a non-finite channel as 0.
 
 // Every model's eval is written float3-free (common.cl's sl_v3 / sl_rgb), so the whole kernel is scalar code
 // and PoCL's loop vectoriser runs 8 fragments per instruction ("vectorized loop (vectorization width: 8)" with
