@@ -1,7 +1,7 @@
 // The fragment-shading kernel, named SL_SHADE_KERNEL, for the model SL_EVAL: kernels/shade.cl includes it
 // once (as shade_fragments), kernels/shade_many.cl once per model (as shade_fragments_<eval function>).
 // No include guard on purpose. Needs kernels/shade_parts.cl and the model's header included before it.
-// SL_SHADE_EXTRA_ARGS, when defined, adds arguments after `stream` (shade_many.cl's dispatching kernel: its model).
+// SL_SHADE_EXTRA_ARGS, when defined, adds arguments after `count` (shade_many.cl's dispatching kernel: its model).
 #ifndef SL_SHADE_EXTRA_ARGS
 #define SL_SHADE_EXTRA_ARGS
 #endif
@@ -12,18 +12,23 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
                               __global float* restrict out, const uint stride, const DeviceView view,
                               __constant const ModelConsts* mc_arg, __constant const DeviceLight* lights_arg,
                               const float4 ambient, __global const float* restrict tab,
-                              const uint stream SL_SHADE_EXTRA_ARGS) {
+                              const uint stream, const uint count SL_SHADE_EXTRA_ARGS) {
     (void)tab;
-    // No bounds check: Shader::shade pads every buffer to the launch size (n rounded up to the work-group
-    // size), and `stride` is that padded length. A check here would put the loads of the constants (albedo,
-    // lights, the model's c[]) under a condition, where PoCL's work-item loop cannot hoist them: vectorised,
-    // each became a gather per fragment. size_t, not uint: a 32-bit index that may wrap makes px[i] a gather.
+    // No bounds check: the launch covers whole work-groups, and a work-item whose fragments would run past the
+    // `count` (>= SL_FRAGS_PER_ITEM) that the buffers hold shades the last SL_FRAGS_PER_ITEM of them instead
+    // (`first` below): the same values again, stored to the same places, with plain stores (a moved block
+    // need not start on a line). So every load is in the buffers and no operation is under a condition. A
+    // bounds check would put the loads of the constants (albedo, lights, the model's c[]) under one, where
+    // PoCL's work-item loop cannot hoist them: vectorised, each became a gather per fragment. size_t, not
+    // uint: a 32-bit index that may wrap makes px[i] a gather.
     SL_PRIVATE_CONSTS(mc, mc_arg);   // the constants and lights as private copies: see common.cl's SL_CONSTS
     DeviceLight lights[SL_NUM_LIGHTS];
     for (int l = 0; l < SL_NUM_LIGHTS; ++l) lights[l] = lights_arg[l];
     // common.cl: SL_FRAGS_PER_ITEM and the loop. A constant trip count (k, not i < first + n, which may wrap):
     // at one fragment a work-item the loop is gone before PoCL builds its work-item loop.
-    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM;
+    const size_t nominal = get_global_id(0) * SL_FRAGS_PER_ITEM;
+    const size_t first = min(nominal, (size_t)count - SL_FRAGS_PER_ITEM);
+    const uint streamed = first == nominal ? stream : 0u;   // a moved block is off the planes' lines
     float out_r[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN, out_g[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN,   // sl_store_block's
           out_b[SL_FRAGS_PER_ITEM] SL_BLOCK_ALIGN;
     SL_FRAGMENT_LOOP
@@ -52,7 +57,7 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
         out_b[k] = sl_finite_or_zero(b);
     }
     // common.cl: each plane streamed past the cache when its bit of `stream` is set
-    sl_store_block(out + first, out_r, stream & SL_STREAM_PLANE(0));
-    sl_store_block(out + stride + first, out_g, stream & SL_STREAM_PLANE(1));
-    sl_store_block(out + 2 * (size_t)stride + first, out_b, stream & SL_STREAM_PLANE(2));
+    sl_store_block(out + first, out_r, streamed & SL_STREAM_PLANE(0));
+    sl_store_block(out + stride + first, out_g, streamed & SL_STREAM_PLANE(1));
+    sl_store_block(out + 2 * (size_t)stride + first, out_b, streamed & SL_STREAM_PLANE(2));
 }

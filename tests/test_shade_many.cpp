@@ -294,6 +294,55 @@ TEST_CASE("shade: two chains a work-item give one chain's pixels, bit for bit, f
                       Catch::Contains("SHADELAB_CHAINS is '3'") && Catch::Contains("use 1 or 2"));
 }
 
+// The launch's last work-items (kernels/shade_fragments.cl, `count`): a frame whose fragment count is not a
+// multiple of the work-group is one launch, whose work-items past the end shade the last block of fragments again.
+// Checked against the same fragments shaded on their own, at the start of a buffer of whole blocks (no block
+// moved there) and, fewer than a work-item shades, through the padded second launch: bit for bit, at counts that
+// end anywhere in a block and a work-group, for models of N and L only (8 lanes), with two chains, with a
+// table, with children, and the dispatching program's kernel.
+TEST_CASE("shade: a launch's last block, moved back to the end of the fragments, gives their own pixels",
+          "[shade][stream]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    const std::size_t lanes = rt.vector_width();
+    std::size_t compared = 0;
+    for (const char* name : {"lambert", "phong", "oren_nayar", "hapke_hen", "minnaert_empirical", "gradient"}) {
+        const ModelInfo& info = find_model(name);
+        const std::size_t per_item = Shader::frags_per_item(info, lanes);
+        for (std::size_t n : {per_item, per_item + 1, 2 * per_item - 1, std::size_t(255), std::size_t(257),
+                              std::size_t(1000), std::size_t(4109)}) {
+            INFO("model " << name << ", " << n << " fragments, " << per_item << " a work-item");
+            const FragmentBuffer fb = random_fragments(n, 41 + n);
+            const ShadeSetup s = setup_of(default_of(name), kDirectionalAndPoint, Precision::Precise);
+            test::ScopedEnv plain("SHADELAB_STREAM_STORES", "0");
+            const std::vector<float> whole = Shader(rt).shade(fb, s);
+            REQUIRE(whole.size() == 3 * n);
+            // the last `m` fragments alone: m a multiple of the work-item's fragments (no block moved), and 3
+            // (fewer than a work-item: the padded launch)
+            for (std::size_t m : {std::min(n / per_item * per_item, 4 * per_item), std::min(std::size_t(3), n)}) {
+                FragmentBuffer part;
+                for (std::size_t i = n - m; i < n; ++i)
+                    part.push_back(fb.px[i], fb.py[i], fb.pz[i], fb.nx[i], fb.ny[i], fb.nz[i], int(i), 1.0f);
+                const std::vector<float> alone = Shader(rt).shade(part, s);
+                REQUIRE(alone.size() == 3 * m);
+                bool same = true;
+                for (std::size_t c = 0; c < 3; ++c)
+                    same = same && std::memcmp(alone.data() + c * m, whole.data() + c * n + (n - m),
+                                               m * sizeof(float)) == 0;
+                CHECK(same);
+                ++compared;
+            }
+        }
+    }
+    CHECK(compared == 6 * 7 * 2);
+    // The dispatching kernel (Shader::prepare_many) takes `count` too: its pixels are the model's own program's.
+    const FragmentBuffer fb = random_fragments(1000, 7);
+    const ShadeSetup s = setup_of(default_of("phong"), kDirectionalAndPoint, Precision::Precise);
+    const std::vector<float> own = Shader(rt).shade(fb, s);
+    Shader many(rt);
+    many.prepare_many({s.material}, s.lights, s.precision, true);
+    CHECK(same_bits(many.shade(fb, s), own));
+}
+
 // Streaming stores (kernels/common.cl, sl_store_block; Shader::streams_output): with SHADELAB_STREAM_STORES=1 every
 // launch streams its aligned blocks, and the body starts at the first fragment whose red output begins a 64-byte
 // line, the fragments before it going with the tail into the padded second launch. The pixels are those of

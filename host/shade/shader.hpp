@@ -36,12 +36,13 @@ struct ShadeSetup {
 
 struct ShadeTiming {
     double build_ms = 0.0;     // program build (0 when cached)
-    // Buffer set-up: the fragment planes are used in place (no copy on a CPU device); only the tail of fewer
-    // than a work-group of fragments is copied (padded), with the material's constants and lights.
+    // Buffer set-up: the fragment planes are used in place (no copy on a CPU device); only the head of a
+    // streamed launch (fewer than 16 fragments), or a buffer of fewer fragments than a work-item shades, is
+    // copied (padded), with the material's constants and lights.
     double upload_ms = 0.0;
     double kernel_ms = 0.0;    // device time of the kernel launches (profiling events)
     // Making the results visible to the host, after the one wait for the launches and the output's read maps
-    // (enqueued behind them; no copy on a CPU device): the unmaps, then the tail's few results copied into place.
+    // (enqueued behind them; no copy on a CPU device): the unmaps, then the head's few results copied into place.
     double download_ms = 0.0;
 };
 
