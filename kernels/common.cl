@@ -111,7 +111,8 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 
 // ---- non-finite results ------------------------------------------------------------------------------------
 // A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no image
-// or table ever holds NaN/Inf (the shade kernels and the photometric ones). Without a comparison: three
+// or table ever holds NaN/Inf (the photometric kernels and eval_directions; the shade kernel writes the whole
+// fragment black, sl_finite_mask3 below). Without a comparison: three
 // comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts from to pack the channels into a
 // <2 x float>, and one packed instruction stops PoCL's loop vectoriser. Adding 1 to the exponent field carries
 // into the sign bit exactly when the field is 255 (Inf, NaN), and an arithmetic shift spreads that bit into the
@@ -121,6 +122,15 @@ SL_INLINE float sl_finite_or_zero(float v) {
     const uint u = as_uint(v);
     const int nonfinite = (int)((u & 0x7f800000u) + 0x00800000u) >> 31;   // -1 iff the exponent field is all ones
     return as_float(u & ~(uint)nonfinite);
+}
+
+// All ones when r, g and b are all finite, else 0: the shade kernels write a fragment with a non-finite channel
+// as black. 0 v is +-0 for every finite v and NaN for an infinite or NaN one (IEEE 754; no fast-math flag lets
+// LLVM fold it, in either mode), so the sum is +-0 exactly when all three are finite: three operations, one
+// comparison and an and a channel, where a test per channel (sl_finite_or_zero) took four a channel.
+SL_INLINE uint sl_finite_mask3(float r, float g, float b) {
+    const float z = fma(0.0f, b, fma(0.0f, g, 0.0f * r));
+    return z == 0.0f ? 0xffffffffu : 0u;
 }
 
 // ---- several fragments a work-item: SL_VECTOR_WIDTH ----------------------------------------------------------

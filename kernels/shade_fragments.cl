@@ -52,9 +52,10 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
             g += (rad[1] * e) * v.g;
             b += (rad[2] * e) * v.b;
         }
-        out_r[k] = sl_finite_or_zero(r);
-        out_g[k] = sl_finite_or_zero(g);
-        out_b[k] = sl_finite_or_zero(b);
+        const uint keep = sl_finite_mask3(r, g, b);   // common.cl: a fragment with a non-finite channel is black
+        out_r[k] = as_float(as_uint(r) & keep);
+        out_g[k] = as_float(as_uint(g) & keep);
+        out_b[k] = as_float(as_uint(b) & keep);
     }
     // common.cl: each plane streamed past the cache when its bit of `stream` is set
     sl_store_block(out + first, out_r, streamed & SL_STREAM_PLANE(0));

@@ -4,9 +4,13 @@
 // per-model programs, is compared pixel for pixel by scripts/identical_renders.sh.)
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
@@ -341,6 +345,46 @@ TEST_CASE("shade: a launch's last block, moved back to the end of the fragments,
     Shader many(rt);
     many.prepare_many({s.material}, s.lights, s.precision, true);
     CHECK(same_bits(many.shade(fb, s), own));
+}
+
+// A fragment whose result has a non-finite channel (only from invalid input: here NaN and infinite normals and
+// positions) is written black, all three channels 0 (kernels/common.cl, sl_finite_mask3), and its neighbours in
+// the same vectors keep their own values, bit for bit. Lambert at a normal with N.y = +inf under the light from
+// (1, 1, 1) is +inf (NoL = +inf), so those fragments must be black; a NaN normal gives NoL = NaN, which the
+// model's max(NoL, 0) turns into 0 (the ambient term alone, finite): every model's output must be finite.
+TEST_CASE("shade: a fragment with a non-finite result is written black, its neighbours unchanged", "[shade]") {
+    Runtime rt(RuntimeOptions{"", -1, "", "off"});
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    const std::size_t infinite[] = {17, 18, 299}, broken[] = {0, 17, 18, 40, 150, 299};
+    for (const char* name : {"lambert", "phong", "oren_nayar", "hapke_hen", "cook_torrance"}) {
+        INFO("model " << name);
+        const FragmentBuffer good = random_fragments(300, 5);
+        FragmentBuffer bad = good;
+        for (std::size_t i : infinite) bad.ny[i] = inf;
+        bad.nx[0] = nan;
+        bad.nz[40] = -inf;
+        bad.px[150] = nan;   // the point light's direction and the view direction from it
+        const ShadeSetup s = setup_of(default_of(name), kOneDirectional, Precision::Precise);
+        const std::vector<float> want = Shader(rt).shade(good, s), got = Shader(rt).shade(bad, s);
+        REQUIRE(got.size() == want.size());
+        const std::size_t n = good.size();
+        std::size_t finite = 0, same = 0, black = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            bool zero = true, equal = true;
+            for (std::size_t c = 0; c < 3; ++c) {
+                finite += std::isfinite(got[c * n + i]) ? 1 : 0;
+                zero = zero && got[c * n + i] == 0.0f;
+                equal = equal && std::memcmp(&got[c * n + i], &want[c * n + i], sizeof(float)) == 0;
+            }
+            const bool is_broken = std::find(std::begin(broken), std::end(broken), i) != std::end(broken);
+            const bool is_infinite = std::find(std::begin(infinite), std::end(infinite), i) != std::end(infinite);
+            same += !is_broken && equal ? 1 : 0;
+            black += is_infinite && zero ? 1 : 0;
+        }
+        CHECK(finite == 3 * n);
+        CHECK(same == n - std::size(broken));
+        if (std::string(name) == "lambert") CHECK(black == std::size(infinite));
+    }
 }
 
 // Streaming stores (kernels/common.cl, sl_store_block; Shader::streams_output): with SHADELAB_STREAM_STORES=1 every
