@@ -23,7 +23,7 @@
 // every steps. Use it anywhere NoL is used: albedo * Band_Round(NoL) is banded Lambert.
 // inv_steps = 1 / steps, precomputed on the host.
 SL_INLINE float Band_Round(float NoL, float steps, float inv_steps) {
-    return floor(fmax(NoL, 0.0f) * steps + 0.5f) * inv_steps;
+    return sl_floor_nonneg(fmax(NoL, 0.0f) * steps + 0.5f) * inv_steps;   // common.cl: its argument is >= 1/2
 }
 
 // Seed 001's banded NoL, literally (with its `_lightBandsMultiplier` typo read as lightBandsMultiplier):
@@ -33,7 +33,7 @@ SL_INLINE float Band_Round(float NoL, float steps, float inv_steps) {
 // banding); for t not dividing 256 the top level can exceed 1 (t = 170: 1.328 for NoL >= 0.996).
 // half_t = t / 2 and t_256 = t / 256 precomputed on the host (as the seed's two named constants).
 SL_INLINE float Band_Seed001(float NoL, float t, float half_t, float t_256) {
-    return floor((fmax(NoL, 0.0f) * 256.0f + half_t) / t) * t_256;
+    return sl_floor_nonneg((fmax(NoL, 0.0f) * 256.0f + half_t) / t) * t_256;   // common.cl: its argument is >= 0
 }
 
 // Hermite smoothstep over [e0, e0 + w] as OpenCL defines it: t = clamp((x - e0) / w, 0, 1), t^2 (3 - 2 t), with
