@@ -140,7 +140,12 @@ std::size_t values_differing(const Image& a, const Image& b) {
 }  // namespace
 
 TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-thread scatter on a large image", "[image]") {
-    // 1000 x 700 with every third pixel covered: the two paths must give equal images value for value.
+    // 500 x 400 (3.2 MB: ordinary stores, on more than one thread) with every third pixel covered: the two paths
+    // must give equal images value for value; then 1000 x 700 (11 MB, streamed stores, image.cpp's
+    // kStreamImageBytes), where the checks below look at single pixels too.
+    const ComposedTwice small = compose_in_both_orders(500, 400, 0, 3, 997);
+    REQUIRE(small.in_order.pixels.size() == small.reversed.pixels.size());
+    CHECK(values_differing(small.in_order, small.reversed) == 0);
     const ComposedTwice r = compose_in_both_orders(1000, 700, 0, 3, 997);
     const Image& a = r.in_order;
     REQUIRE(a.pixels.size() == r.reversed.pixels.size());
@@ -156,8 +161,9 @@ TEST_CASE("compose_image in parallel (fragments in pixel order) equals the one-t
 
 TEST_CASE("compose_image of an image past the streamed-store size (2048 x 2048, 64 MB) equals the one-thread scatter",
           "[image]") {
-    // Images of 64 MB and more are written with non-temporal stores (image.cpp, kStreamImageBytes): the same
-    // check as above at a size that takes that path, every fifth pixel from pixel 1 covered.
+    // Images of 4 MB and more (64 MB until 2026-12-05) are written with non-temporal stores (image.cpp,
+    // kStreamImageBytes): the same check as above at a size that takes that path too, every fifth pixel from
+    // pixel 1 covered.
     const int npix = 2048 * 2048;
     const ComposedTwice r = compose_in_both_orders(2048, 2048, 1, 5, 1009);
     const Image& a = r.in_order;

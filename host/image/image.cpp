@@ -98,12 +98,15 @@ struct StreamPixel {
 };
 #endif
 
-// Images of at least this many bytes are written with streamed stores: past the last-level cache, where the
-// image would not stay cached for its reader anyway; below it, ordinary stores leave the image in the cache.
-// Measured on a 2-core AMD EPYC (Zen 4) host, a disc covering half the image, best of 15, three alternating
-// rounds: 4096 x 4096 13.6-15.0 ms streamed against 14.4-17.5 plain, 2048 x 2048 3.9-4.0 against 4.4-4.7.
-// (1080p, 33 MB, stays below the threshold: nothing was measured to gain there.)
-constexpr std::size_t kStreamImageBytes = std::size_t(64) << 20;
+// Images of at least this many bytes (512 x 512 RGBA floats and larger) are written with streamed stores: an
+// ordinary store first reads its line ("read for ownership"), and a renderer's image, kept from frame to frame,
+// is not in the caches by the time the next frame writes it; below it, ordinary stores leave the image in the
+// cache. Measured on a 2-core AMD EPYC (Zen 4) host, a disc covering half the image, best of 15, three
+// alternating rounds: 4096 x 4096 13.6-15.0 ms streamed against 14.4-17.5 plain, 2048 x 2048 3.9-4.0 against
+// 4.4-4.7 (the threshold was 64 MB then). On the 2-core Intel Xeon host (2026-12-05, bench_e2e, the three meshes,
+// two alternating rounds, kept buffers): 1920 x 1080 (33 MB) 2.17-2.45 ms plain against 0.85-1.12 streamed,
+// 512 x 512 (4 MB) 0.16-0.48 against 0.12-0.25.
+constexpr std::size_t kStreamImageBytes = std::size_t(4) << 20;
 
 // Any order, one thread: the background everywhere, then the fragments (later ones win), each checked.
 void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], float* out) {
