@@ -126,7 +126,6 @@ struct KernelRun {
 KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     const std::size_t n = r.mu0.size();
     // built and launched as `photometry eval` builds and launches it (its defines, its chains a work-item)
-    const std::size_t chains = photometry::pho_chains(law);
     cl::Program prog = rt.build("photometry.cl", photometry::pho_defines(law, Precision::Precise, false));
     const auto consts = pack_material(law.material);
     std::vector<cl::Buffer> in;
@@ -142,13 +141,13 @@ KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     k.setArg(8, cl_uint(n));
     k.setArg(9, bc);
     // make_rows pads to a multiple of 256 (the kernel has no bounds check); the first launch compiles
-    photometry::enqueue_rows(rt, k, n, 256, 0, false, chains);
+    photometry::enqueue_rows(rt, k, law, n, 256);
     rt.queue().finish();
     double best = 1e30;
     const double c0 = cpu_seconds();
     for (int rep = 0; rep < 5; ++rep) {
         const auto t0 = clock_type::now();
-        photometry::enqueue_rows(rt, k, n, 256, 0, false, chains);
+        photometry::enqueue_rows(rt, k, law, n, 256);
         rt.queue().finish();
         best = std::min(best, seconds(t0, clock_type::now()));
     }

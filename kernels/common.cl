@@ -112,12 +112,11 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 // ---- non-finite results ------------------------------------------------------------------------------------
 // A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no image
 // or table ever holds NaN/Inf (the photometric kernels and eval_directions; the shade kernel writes the whole
-// fragment black, sl_finite_mask3 below). Without a comparison: three
-// comparisons in a row (one per channel) are what LLVM's SLP vectoriser starts from to pack the channels into a
-// <2 x float>, and one packed instruction stops PoCL's loop vectoriser. Adding 1 to the exponent field carries
-// into the sign bit exactly when the field is 255 (Inf, NaN), and an arithmetic shift spreads that bit into the
-// mask that clears the value: four vector operations, where the former shift-mask-add-shift form took six, a
-// cost the cheap models paid three times a fragment (docs/speed.md, "A store path from registers").
+// fragment black, sl_finite_mask3 below). Without a comparison: three comparisons in a row (one per channel) are
+// what LLVM's SLP vectoriser starts from to pack the channels into a <2 x float>, and one packed instruction stops
+// PoCL's loop vectoriser. Adding 1 to the exponent field carries into the sign bit exactly when the field is 255
+// (Inf, NaN), and an arithmetic shift spreads that bit into the mask that clears the value: four vector
+// operations, where the former shift-mask-add-shift form took six (docs/speed.md, "A store path from registers").
 SL_INLINE float sl_finite_or_zero(float v) {
     const uint u = as_uint(v);
     const int nonfinite = (int)((u & 0x7f800000u) + 0x00800000u) >> 31;   // -1 iff the exponent field is all ones

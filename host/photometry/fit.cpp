@@ -40,13 +40,11 @@ const std::vector<std::pair<const char*, const char*>>& fit_laws() {
 class SetEvaluator {
 public:
     SetEvaluator(Runtime& rt, const Material& base, const std::vector<Geometry>& rows, Precision precision)
-        : rt_(rt), base_(base), n_(rows.size()), padded_(round_up(rows.size(), kLocal)) {
-        Law law;
-        law.material = base;
-        chains_ = pho_chains(law);
-        const PhoArrays p = pho_arrays(law, rows, 0, n_, padded_);
+        : rt_(rt), n_(rows.size()), padded_(round_up(rows.size(), kLocal)) {
+        law_.material = base;
+        const PhoArrays p = pho_arrays(law_, rows, 0, n_, padded_);
         try {
-            prog_ = rt.build("photometry.cl", pho_defines(law, precision, false), Shader::options_for(precision));
+            prog_ = rt.build("photometry.cl", pho_defines(law_, precision, false), Shader::options_for(precision));
             for (const auto* v : {&p.mu0, &p.mu, &p.sin_i, &p.sin_e, &p.cos_g, &p.tan_half_g, &p.tan_half_psi})
                 rows_.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v->size() * sizeof(float),
                                    const_cast<float*>(v->data()));
@@ -62,7 +60,7 @@ public:
             const std::size_t ns = std::min(kMaxSets, sets.size() - first);
             std::vector<ModelConsts> consts;
             for (std::size_t s = 0; s < ns; ++s) {
-                Material m = base_;
+                Material m = law_.material;
                 for (const auto& [k, v] : sets[first + s]) m.params[k] = v;
                 const std::vector<ModelConsts> c = pack_material(resolve_material(m));
                 if (c.size() != 1) throw Error("internal: photometric fits take models without children");
@@ -78,7 +76,7 @@ public:
                 k.setArg(7, bo);
                 k.setArg(8, cl_uint(padded_));
                 k.setArg(9, bc);
-                enqueue_rows(rt_, k, padded_, kLocal, ns, false, chains_);
+                enqueue_rows(rt_, k, law_, padded_, kLocal, ns);
                 std::vector<float> flat(ns * padded_);
                 rt_.queue().enqueueReadBuffer(bo, CL_TRUE, 0, flat.size() * sizeof(float), flat.data());
                 for (std::size_t s = 0; s < ns; ++s)
@@ -98,8 +96,8 @@ public:
 private:
     static constexpr std::size_t kLocal = 256, kMaxSets = 32;
     Runtime& rt_;
-    Material base_;
-    std::size_t n_, padded_, chains_ = 1;
+    Law law_;   // the base material's law: the program's defines and its rows a work-item
+    std::size_t n_, padded_;
     cl::Program prog_;
     std::vector<cl::Buffer> rows_;
 };

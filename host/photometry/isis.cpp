@@ -409,10 +409,11 @@ std::size_t pho_chains(const Law& law) {
     return law.empirical ? 1 : Shader::chains_for(find_model(law.material.model));
 }
 
-void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets,
-                  bool one_per_item, std::size_t chains) {
+void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,
+                  std::size_t sets) {
     // kernels/common.cl: no second chain at one lane
-    const std::size_t lanes = rt.vector_width(), per_item = one_per_item ? 1 : (lanes > 1 ? lanes * chains : 1);
+    const std::size_t lanes = rt.vector_width();
+    const std::size_t per_item = law.empirical ? 1 : (lanes > 1 ? lanes * pho_chains(law) : 1);
     const cl::NDRange global = sets ? cl::NDRange(rows / per_item, sets) : cl::NDRange(rows / per_item);
     const cl::NDRange group = sets ? cl::NDRange(local / per_item, 1) : cl::NDRange(local / per_item);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, group);
@@ -453,7 +454,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
                 k.setArg(8, cl_uint(n));
                 k.setArg(9, keep.back());
             }
-            enqueue_rows(rt, k, padded, local, 0, law.empirical != 0, pho_chains(law));
+            enqueue_rows(rt, k, law, padded, local);
             std::vector<float> out(n);
             rt.queue().enqueueReadBuffer(bout, CL_TRUE, 0, n * sizeof(float), out.data());
             for (std::size_t j = 0; j < n; ++j) result[first + j] = out[j];

@@ -83,13 +83,13 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
 // laws; pho_defines builds the program with it.
 std::size_t pho_chains(const Law& law);
 
-// Enqueues a kernel of kernels/photometry.cl over `rows` rows (padded: a multiple of `local`, the work-group's
-// rows, since the kernels have no bounds check) and `sets` parameter sets (eval_photometric_sets' second
-// dimension; 0 for the one-dimensional kernels). eval_photometric and eval_photometric_sets take
-// rt.vector_width() rows a work-item times `chains` (kernels/common.cl, SL_FRAGS_PER_ITEM; pho_chains), eval_empirical
-// one (`one_per_item`).
-void enqueue_rows(Runtime& rt, cl::Kernel& k, std::size_t rows, std::size_t local, std::size_t sets = 0,
-                  bool one_per_item = false, std::size_t chains = 1);
+// Enqueues a kernel of kernels/photometry.cl, built for `law` (pho_defines), over `rows` rows (padded: a multiple
+// of `local`, the work-group's rows, since the kernels have no bounds check) and `sets` parameter sets
+// (eval_photometric_sets' second dimension; 0 for the one-dimensional kernels). eval_photometric and
+// eval_photometric_sets take rt.vector_width() rows a work-item times pho_chains(law) (kernels/common.cl,
+// SL_FRAGS_PER_ITEM), eval_empirical (an empirical law's) one.
+void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,
+                  std::size_t sets = 0);
 
 // The law at one geometry with the double-precision references (host/reference/).
 double evaluate_reference(const Law& law, const Geometry& g);
