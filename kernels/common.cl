@@ -507,35 +507,44 @@ SL_INLINE float sl_pow_nonneg(float x, float y) {
 
 // ---- sl_fast_pow (fast mode): plain float
 
+// Fast mode's pow is precise mode's less what a picture cannot show: no float-float product, no division and no
+// conversion, and polynomials of the lowest degree that keeps the error bound of results >= 2^-10 (the values a
+// pixel shows: 250 ulp, tests/test_precision.cpp) that the former form (a degree-3-in-s^2 log2 after a division,
+// a degree-5 exp2) kept. 2026-12-05: the same number of operations in log2 with an fma for the division, two
+// fewer in exp2, and 0.97-1.11x (median 1.08x) the former fast pow in the pow models at 1M and 4M fragments
+// (docs/precision.md, "Fast-mode pow"); results below 2^-10 lose the most (|t| up to 126 multiplies log2's
+// error: 1.6e3 ulp, 1e-4 relative, where the former form had 158 ulp).
+
 // log2 x for finite x >= 0 (finite for x = 0 too: sl_fast_pow selects that case). x = 2^e m with m in [2/3, 4/3),
 // found by subtracting the bits of 2/3 (0x3f2aaaab): the exponent field of the difference is e, so there is no
 // compare and select on m as in sl_split_log2's [sqrt(1/2), sqrt(2)) split (4 integer operations for 9). Then
-// log2 m = s P(s^2), s = (m - 1) / (m + 1), |s| <= 1/5, P of degree 3 fitted (weighted least squares, iterated
-// to equal relative error, coefficients rounded to float one at a time and the rest refitted) to
-// (2 / ln 2) atanh(s) / s: 1.3e-8 relative, most of it 2 / ln 2 rounded to float. m = 1 gives 0 exactly.
+// log2 m = a P(a), a = m - 1 in [-1/3, 1/3) (exact), P of degree 6 fitted to log2(1 + a) / a for relative error
+// (Lawson-weighted least squares, coefficients rounded to float): 1.2e-6 relative evaluated in float, six fmas and
+// no division (the atanh form s = (m - 1) / (m + 1) needs one: the costliest instruction of the loop).
+// m = 1 gives a = 0 and log2 x = e exactly.
 SL_INLINE float sl_log2_f(float x) {
     const int sub = x < 1.17549435e-38f;   // denormal (or 0): scaled by 2^24 first
     const uint bits = as_uint(sub ? x * 16777216.0f : x);
     const int ei = (int)(bits - 0x3f2aaaabu) >> 23;
-    const float m = as_float(bits - ((uint)ei << 23));
-    const float s = (m - 1.0f) / (m + 1.0f), s2 = s * s;
-    const float p = fma(fma(fma(4.573026299e-01f, s2, 5.753346086e-01f), s2, 9.618173838e-01f), s2, 2.885390043e+00f);
-    return fma(s, p, (float)(ei - (sub ? 24 : 0)));
+    const float a = as_float(bits - ((uint)ei << 23)) - 1.0f;
+    const float hi = fma(fma(2.46199399e-1f, a, -2.79993892e-1f), a, 2.85692483e-1f);   // Horner, highest first
+    const float p = fma(fma(fma(fma(hi, a, -3.58389348e-1f), a, 4.80960906e-1f), a, -7.21379876e-1f), a, 1.44269478f);
+    return fma(a, p, (float)(ei - (sub ? 24 : 0)));
 }
 
 // 2^t for t in [-126, 128] (0 below, +inf above), without sl_exp2_ff's low part: k = rint(t), f = t - k, and 2^f
-// for |f| <= 1/2 by a polynomial of degree 5 in f itself, 1 + f Q(f), Q fitted to (2^f - 1) / f for the relative
-// error of 2^f (9.2e-8 for the fit, 1.9e-7 evaluated in float): no multiplication by ln 2 and five fmas where
-// the Taylor series of e^g needs degree 7. p(0) = 1, so an integer t gives 2^t exactly. 2^k is added to p's
-// exponent field (one integer add, as in sl_exp2_ff): p is in [2^-1/2, 2^1/2],
-// so the sum stays a normal float for k in [-126, 127], and k = 128 with f <= 0 gives at most 2^128 = +inf.
+// for |f| <= 1/2 by a polynomial of degree 4 in f itself, 1 + f Q(f), Q fitted to (2^f - 1) / f for the relative
+// error of 2^f (Lawson-weighted least squares, coefficients rounded to float: 6.2e-6 evaluated in float): no
+// multiplication by ln 2. p(0) = 1, so an integer t gives 2^t exactly. k and 2^k come from the one sum
+// tc + 1.5 * 2^23 as in sl_exp2_ff (its low bits are k in two's complement, shifted into p's exponent field by one
+// integer add: no conversion): p is in [2^-1/2, 2^1/2], so the sum stays a normal float for k in [-126, 127],
+// and k = 128 with f <= 0 gives at most 2^128 = +inf.
 SL_INLINE float sl_exp2_f(float t) {
     const float tc = fmin(fmax(t, -126.0f), 128.0f);
-    const float k = (tc + 12582912.0f) - 12582912.0f;
+    const float shifted = tc + 12582912.0f, k = shifted - 12582912.0f;
     const float f = tc - k;
-    const float q = fma(fma(fma(fma(1.32647273e-3f, f, 9.67151299e-3f), f, 5.55073358e-2f), f, 2.40222424e-1f), f,
-                        6.93147004e-1f);
-    const float r = as_float(as_uint(fma(f, q, 1.0f)) + ((uint)(int)k << 23));
+    const float q = fma(fma(fma(9.61811095e-3f, f, 5.58372885e-2f), f, 2.40232527e-1f), f, 6.93136871e-1f);
+    const float r = as_float(as_uint(fma(f, q, 1.0f)) + (as_uint(shifted) << 23));
     return t < -126.0f ? 0.0f : r;
 }
 

@@ -65,7 +65,8 @@ TEST_CASE("Pareto front of hand-built point sets", "[chart]") {
     CHECK(front_in_speed_order(p, pareto_front(p)) == std::vector<std::size_t>{2, 3, 0});
 }
 
-TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow at least as wrong as precise", "[chart]") {
+TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow within precise plus its own bound",
+          "[chart]") {
     Runtime rt;
     Scorer s = tiny_scorer(rt);
     REQUIRE(s.timed_fragments() >= 20000);
@@ -80,6 +81,14 @@ TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow a
     CHECK(lp.fragments_per_s > 0.0);
     CHECK(std::isfinite(lp.fragments_per_s));
 
+    // Fast pow (kernels/common.cl, sl_fast_pow) is within 250 ulp of pow for results >= 2^-10, 250 * 2^-24 =
+    // 1.5e-5 relative (docs/precision.md, "Fast-mode pow"); these models' values are sums of non-negative terms,
+    // each at most linear in one power, so a render's fast error may exceed precise mode's by that much and no
+    // more (the chart counts pixels with values >= 1e-3 of the peak, so the powers there are >= 2^-10).
+    // Measured with Revision 7 (2026-12-05): rel max precise / fast phong 3.44e-6 / 3.95e-6, blinn_phong
+    // 7.91e-6 / 9.32e-6, minnaert_1941 1.53e-5 / 1.59e-5; p99 1.56e-6 / 2.03e-6, 3.08e-6 / 3.00e-6,
+    // 3.52e-7 / 4.17e-6. (Delta E of errors near 1e-6 is rounding noise in either direction: printed, not compared.)
+    const double fast_pow_rel = 250.0 * std::ldexp(1.0, -24);
     for (const std::string model : {"phong", "blinn_phong", "minnaert_1941"}) {
         const Score p = s.score(chart_material(model), Precision::Precise);
         const Score f = s.score(chart_material(model), Precision::Fast);
@@ -87,14 +96,8 @@ TEST_CASE("chart scoring: precise Lambert within the precision bound, fast pow a
                   << "; rel p99 precise " << p.error.rel_p99 << " fast " << f.error.rel_p99 << "; dE00 mean precise "
                   << p.error.de_mean << " fast " << f.error.de_mean << "\n";
         INFO(model);
-        // Fast pow (kernels/common.cl, sl_fast_pow, plain float) is within 20 ulp for results in [2^-10, 1],
-        // precise pow (sl_pow, float-float) within 1.7 (docs/precision.md); on a render the difference is far
-        // below the input rounding that sets both modes' error (measured p99 fast / precise with the earlier
-        // pair, 1.7 and 0.5 ulp: phong 1.51e-6 / 1.56e-6, blinn_phong 3.07e-6 / 3.08e-6, minnaert_1941 3.74e-7 /
-        // 3.49e-7). Fast may not be worse by more than a quarter.
-        // (Delta E of errors near 1e-6 is rounding noise in either direction, so it is printed, not compared.)
-        CHECK(f.error.rel_max <= 1.25 * p.error.rel_max);
-        CHECK(f.error.rel_p99 <= 1.25 * p.error.rel_p99);
+        CHECK(f.error.rel_max <= p.error.rel_max + fast_pow_rel);
+        CHECK(f.error.rel_p99 <= p.error.rel_p99 + fast_pow_rel);
         // ... and fast mode really took effect: otherwise the comparison above would be one program with itself.
         const Image a = s.kernel_image(chart_material(model), Precision::Precise);
         const Image b = s.kernel_image(chart_material(model), Precision::Fast);

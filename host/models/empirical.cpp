@@ -83,7 +83,7 @@ ModelFamily register_empirical_family() {
                     curve(kMinnaertB)};
         m.pack_table = [](const Material& r) { return pack_segments(r, "k_list"); };
         // kernel vs reference, tests/test_precision.cpp: {probe, precise seen, bound, fast seen, bound}
-        m.precision = {{"*", 8.11e-7, 2.5e-6, 8.11e-7, 2.5e-6}};
+        m.precision = {{"*", 8.11e-7, 2.5e-6, 6.21e-6, 2e-5}};   // fast: sl_fast_pow's lower degrees (was 8.11e-7)
         family.models.push_back(m);
     }
     {
