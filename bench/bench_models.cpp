@@ -401,14 +401,11 @@ struct Row {
     std::string vec, target, verdict;
 };
 
-// Models whose fast build is a different computation from the precise one: they call pow (fast: sl_fast_pow,
-// plain float; precise: sl_pow, float-float). Every other mapping of SL_FAST is the same code on PoCL's CPU
-// driver (native_exp, _log, _sqrt, _rsqrt are its full functions; the trigonometry is common.cl's own in both
-// modes), so for the other models fast mode can only be "not slower".
-const std::set<std::string> kFastDiffers = {
-    "toon", "minnaert_1941", "minnaert_unity", "minnaert_blender", "minnaert_b", "minnaert_normalized", "phong",
-    "phong_seed001", "phong_normalized", "blinn_phong", "blinn_phong_seed001", "blinn_phong_normalized",
-    "blinn_phong_normalized_approx"};
+// Models whose fast build is a different computation from the precise one: ModelInfo::fast_differs (they call
+// pow: fast sl_fast_pow, plain float; precise sl_pow, float-float). For every other model fast mode is the same
+// program (native_exp, _log, _sqrt, _rsqrt are PoCL's full functions on its CPU driver; the trigonometry is
+// common.cl's own in both modes), so fast mode can only be "not slower".
+bool fast_differs(const std::string& model) { return find_model(model).fast_differs; }
 // "Not slower" allows for the timing noise of a shared machine: two builds of the same code measured 0.93-1.07x
 // of each other in one run, so below 0.9x is a miss.
 constexpr double kSameCodeFloor = 0.9;
@@ -429,7 +426,7 @@ void judge(Row& row, bool precise) {
             misses.push_back("MISS: " + fixed(row.x_cpp, 2) + "x C++, target " + fixed(kCppTarget, 0) + "x");
     }
     if (!precise && row.x_precise >= 0.0) {
-        const bool differs = kFastDiffers.count(row.model) > 0;
+        const bool differs = fast_differs(row.model);
         const double target = differs ? kFastTarget : kSameCodeFloor;
         targets.push_back(std::string(differs ? "x_precise>=" : "x_precise(same code)>=") + fixed(target, 1));
         if (row.x_precise < target)

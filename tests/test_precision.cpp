@@ -651,6 +651,7 @@ TEST_CASE("every model in precise and fast mode against the double reference wit
             FAIL_CHECK("model '" << info.name << "' registers no precision row (ModelInfo::precision, probe \"*\"): "
                        << "measure it (this test prints the table) and add one, with the numbers to docs/precision.md");
         double row_max[2] = {0, 0};   // max over the probes the model's "*" row bounds
+        std::size_t differing = 0;    // values not bit-identical between the modes, over all probes
         for (const auto& probe : ps) {
             const PrecisionBound* bound = find_bound(info.name, probe.label);
             INFO("model " << info.name << ", " << probe.label);
@@ -674,6 +675,7 @@ TEST_CASE("every model in precise and fast mode against the double reference wit
             std::size_t same = 0;
             for (std::size_t j = 0; j < out[0].size(); ++j)
                 same += std::memcmp(&out[0][j], &out[1][j], sizeof(float)) == 0 ? 1 : 0;
+            differing += out[0].size() - same;
             for (std::size_t i = 0; i < sweep.size(); ++i)
                 for (int c = 0; c < 3; ++c) {
                     const double r = ref[i][c];
@@ -711,6 +713,11 @@ TEST_CASE("every model in precise and fast mode against the double reference wit
                 CHECK(double(st[mode].flips) <= kMaxFlipShare * double(st[mode].values));
             }
         }
+        // What `shadelab models NAME` says of fast mode (ModelInfo::fast_differs) is what it does: the same program
+        // gives the same bits on every direction and parameter of the sweep; a different one differs somewhere.
+        INFO("model " << info.name << ": fast_differs " << info.fast_differs << ", values differing fast vs precise "
+                      << differing);
+        CHECK((differing > 0) == info.fast_differs);
         if (row)
             std::cout << "  " << info.name << " row: precise " << row_max[0] << " (recorded " << row->measured_precise
                       << ", bound " << row->precise << "), fast " << row_max[1] << " (recorded " << row->measured_fast

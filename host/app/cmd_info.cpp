@@ -38,6 +38,7 @@ nlohmann::json model_json(const ModelInfo& m) {
             {"children", m.children},
             {"reciprocal", m.reciprocal},
             {"energy_conserving", m.energy_conserving},
+            {"fast_differs", m.fast_differs},
             {"kernel", m.header},
             {"doc", doc_page(m)}};
 }
@@ -54,6 +55,23 @@ std::string table_line(const TableSpec& t) {
            " entries in [" + list_text({t.lo}) + ", " + list_text({t.hi}) + "])  " + t.doc;
 }
 
+// What --precision fast does to this model (ModelInfo::fast_differs), with its measured errors in both modes
+// (its "*" precision row: max relative error against the double reference over tests/test_precision.cpp's
+// sweep).
+std::string fast_mode_line(const ModelInfo& m) {
+    std::ostringstream s;
+    if (m.fast_differs)
+        s << "its own faster pow (sl_fast_pow: 250 ulp for results >= 2^-10, docs/precision.md)";
+    else
+        s << "the same program as precise (nothing faster here: docs/precision.md)";
+    for (const PrecisionBound& b : m.precision)
+        if (b.probe == "*") {
+            s << std::setprecision(3) << "; max rel error precise " << b.measured_precise;
+            if (m.fast_differs) s << ", fast " << b.measured_fast;
+        }
+    return s.str();
+}
+
 // One model in full: parameters with defaults and ranges, flags, source, doc page.
 void print_model(const ModelInfo& m) {
     std::cout << m.name << ": " << m.summary << "\n"
@@ -64,6 +82,7 @@ void print_model(const ModelInfo& m) {
               << "  flags:   " << (m.reciprocal ? "reciprocal" : "not reciprocal") << ", "
               << (m.energy_conserving ? "energy conserving" : "not energy conserving")
               << (m.children > 0 ? ", blends " + std::to_string(m.children) + " child materials" : "") << "\n";
+    std::cout << "  fast:    " << fast_mode_line(m) << "\n";
     if (m.params.empty() && m.tables.empty()) std::cout << "  parameters: none\n";
     for (const auto& t : m.tables) std::cout << "  -p " << table_line(t) << "\n";
     for (const auto& p : m.params)

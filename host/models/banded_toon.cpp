@@ -141,6 +141,7 @@ ModelFamily register_banded_toon_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"banded", "banded_seed001", "toon"});
+    use_fast_pow(family, {"toon"});   // its highlight's NoH^n: fast mode's own pow (ModelInfo::fast_differs)
     return family;
 }
 

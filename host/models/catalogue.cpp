@@ -60,6 +60,10 @@ void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names
     for (const std::string& name : names) family_model(family, name, "give plain stores").plain_stores = true;
 }
 
+void use_fast_pow(ModelFamily& family, const std::vector<std::string>& names) {
+    for (const std::string& name : names) family_model(family, name, "mark as calling pow").fast_differs = true;
+}
+
 const std::vector<ModelInfo>& model_catalogue() {
     static const std::vector<ModelInfo> all = [] {
         std::vector<ModelInfo> v;

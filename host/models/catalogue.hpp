@@ -111,6 +111,13 @@ struct ModelInfo {
     // launches past the cache use (Shader::streams_output), measured slower for it (docs/speed.md, "Streaming
     // stores"). Set by its family's registration (use_plain_stores).
     bool plain_stores = false;
+    // Fast mode computes something else for it, faster: its kernel calls pow, which fast mode maps to
+    // sl_fast_pow (kernels/common.cl; docs/precision.md, "Fast-mode pow"). For every other model fast mode is the
+    // same program as precise: nothing faster exists here (the trigonometry is common.cl's own in both modes,
+    // and PoCL's native_ forms of exp, log, sqrt and rsqrt are its full functions). `shadelab models NAME` says
+    // which; set by its family's registration (use_fast_pow), and tests/test_precision.cpp holds it to that:
+    // fast output bit-identical to precise over the whole sweep exactly where it is not set.
+    bool fast_differs = false;
     std::vector<PrecisionBound> precision;   // kernel vs reference, both modes (see PrecisionBound)
     std::string doc;       // its documentation page from the repository root (set from its family's)
 };
@@ -134,6 +141,10 @@ void use_two_chains(ModelFamily& family, const std::vector<std::string>& names);
 // Sets ModelInfo::plain_stores for the named models of `family` (its registration's last step); throws
 // shadelab::Error for a name that is not one of its models.
 void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names);
+
+// Sets ModelInfo::fast_differs for the named models of `family` (the models whose kernel calls pow); throws
+// shadelab::Error for a name that is not one of its models.
+void use_fast_pow(ModelFamily& family, const std::vector<std::string>& names);
 
 // Every model, family by family (by rank), each family's in its registered order.
 const std::vector<ModelInfo>& model_catalogue();

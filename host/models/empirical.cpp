@@ -103,6 +103,7 @@ ModelFamily register_empirical_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"lunar_lambert_empirical", "minnaert_empirical"});
+    use_fast_pow(family, {"minnaert_empirical"});   // its powers of the cosines (ModelInfo::fast_differs)
     return family;
 }
 

@@ -199,6 +199,9 @@ ModelFamily register_phong_family() {
     // "Two chains")
     use_two_chains(family, {"phong", "phong_normalized", "phong_seed001", "blinn_phong", "blinn_phong_normalized",
                             "blinn_phong_normalized_approx", "blinn_phong_seed001"});
+    // every model of the family raises a cosine to a power: fast mode's own pow (ModelInfo::fast_differs)
+    use_fast_pow(family, {"phong", "phong_seed001", "phong_normalized", "blinn_phong", "blinn_phong_seed001",
+                          "blinn_phong_normalized", "blinn_phong_normalized_approx"});
     return family;
 }
 
