@@ -274,6 +274,14 @@ def plain_count(rows, target):
     return f"met by {len([r for r in have if float(r['of_plain_stream']) >= target])} of {len(have)}"
 
 
+def footprint_count(rows, target):
+    """'met by K of N' against the triad over the model's footprint (bench_models' of_stream_footprint)."""
+    have = [r for r in rows if r.get("of_stream_footprint")]
+    if not have:
+        return "not measured"
+    return f"met by {len([r for r in have if float(r['of_stream_footprint']) >= target])} of {len(have)}"
+
+
 def models_targets(m):
     s = size_label(m.big)
     precise = [r for r in m.at_big if r["mode"] == "precise"]
@@ -297,6 +305,13 @@ def models_targets(m):
         f"write-allocate read that the kernels' streaming stores avoid past the cache): every model >= 0.25 "
         f"{plain_count(precise, 0.25)}, cheap models >= 0.8 {plain_count(cheap, 0.8)} "
         f"({listing(cheap, 'of_plain_stream')}).",
+        f"- Against STREAM over the model's footprint (the triad's three arrays as many bytes as the model's "
+        f"planes, where the target's arrays have the planes' length: a third or a quarter of those bytes, which a "
+        f"large last-level cache can hold when the planes do not): every model >= 0.25 "
+        f"{footprint_count(precise, 0.25)} (lowest: "
+        f"{listing(sorted([r for r in precise if r.get('of_stream_footprint')], key=lambda r: float(r['of_stream_footprint']))[:3], 'of_stream_footprint')}), "
+        f"cheap models >= 0.8 {footprint_count(cheap, 0.8)} "
+        f"({listing([r for r in cheap if r.get('of_stream_footprint')], 'of_stream_footprint')}).",
         f"- **Fast >= 1.3x precise where fast is different code (the {len(pow_fast)} models that call pow, {s}): "
         f"{verdict(len(pow_ok), len(pow_fast))}**{spread(pow_fast)}; the models whose fast build is the same code "
         f"as precise give{spread(same)}, which is this run's noise between two builds of one kernel.",
