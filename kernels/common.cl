@@ -413,14 +413,19 @@ SL_INLINE float sl_pow_special(float x, float y, float r) {
 }
 
 // x = 2^e m with m in [sqrt(1/2), sqrt(2)) for finite x > 0, denormals included (scaled by 2^24 first);
-// returns m and sets *e.
+// returns m and sets *e. e is the exponent field of bits(x) - (bits(c / 2) + 1), c = 1.41421354f (sqrt 2 in
+// float, and c / 2 exact): the difference crosses into the next binade exactly where x's significand exceeds c,
+// so m = x / 2^e by subtracting e from the exponent field, with no compare and select (sl_log2_f's split, at
+// another point). The same m and e, bit for bit, as the former "m0 > c ? m0 / 2 : m0" of the significand m0 in
+// [1, 2), in 4 integer operations for 9 (tests/test_precision.cpp sweeps x == m 2^e, m in (c / 2, c]): precise
+// pow 1.00-1.06x (median 1.02x) in the pow models at 1M and 4M, alternated in one process, where the same code
+// against itself gave 0.97-1.07x (2026-12-05; docs/precision.md, "Precise-mode pow").
 SL_INLINE float sl_split_log2(float x, float* e) {
     const int sub = x < 1.17549435e-38f;
     const int bits = as_int(sub ? x * 16777216.0f : x);
-    const float m0 = as_float((bits & 0x007fffff) | 0x3f800000);   // [1, 2)
-    const int big = m0 > 1.41421356f;
-    *e = (float)((bits >> 23) - 127 + big - (sub ? 24 : 0));
-    return big ? 0.5f * m0 : m0;
+    const int ei = (bits - 0x3f3504f4) >> 23;   // 0x3f3504f3: c / 2 = 0.70710677f
+    *e = (float)(ei - (sub ? 24 : 0));
+    return as_float((uint)bits - ((uint)ei << 23));   // unsigned: ei < 0 for x < 1
 }
 
 // Q(f) = (2^f - 1) / f for |f| <= 1/2 (and the few ulps of a float-float low part beyond): degree 5, fitted for

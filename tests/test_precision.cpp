@@ -556,6 +556,55 @@ TEST_CASE("the three pows (sl_pow_cr, sl_pow, sl_fast_pow) - dense sweep against
     }
 }
 
+// sl_split_log2 (precise pow's x = 2^e m) from its definition: x == m 2^e exactly with m in (c / 2, c],
+// c = 1.41421354f (sqrt 2 in float), for every significand at the exponents where its integer steps borrow or
+// carry differently (x < 1, x >= 1, the smallest normal binade, denormals scaled by 2^24, the largest binade).
+const char* const kSplitProbe = R"CL(
+#include "common.cl"
+__kernel void split_probe(__global const float* x, __global float* m, __global float* e, const uint n) {
+    const uint i = get_global_id(0);
+    if (i >= n) return;
+    float ei;
+    m[i] = sl_split_log2(x[i], &ei);
+    e[i] = ei;
+}
+)CL";
+
+TEST_CASE("sl_split_log2: x = 2^e m exactly, m in (c/2, c], for every significand at five exponents and denormals",
+          "[precision]") {
+    std::vector<float> X;
+    for (int exp2 : {-126, -1, 0, 1, 127})
+        for (std::uint32_t s = 0; s < (1u << 23); s += (exp2 == 0 || exp2 == -1) ? 1u : 7u)
+            X.push_back(std::ldexp(1.0f + float(s) * 0x1p-23f, exp2));
+    for (std::uint32_t b = 1; b < (1u << 23); b += 5) {   // denormals
+        float d;
+        std::memcpy(&d, &b, sizeof d);
+        X.push_back(d);
+    }
+    const std::size_t n = X.size();
+    const cl::Program prog = build_source(kSplitProbe, build_options({}, Shader::options_for(Precision::Precise)));
+    cl::Buffer bx = read_only(X), bm(runtime().context(), CL_MEM_WRITE_ONLY, n * sizeof(float)),
+               be(runtime().context(), CL_MEM_WRITE_ONLY, n * sizeof(float));
+    cl::Kernel k(prog, "split_probe");
+    k.setArg(0, bx); k.setArg(1, bm); k.setArg(2, be); k.setArg(3, cl_uint(n));
+    runtime().queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, Shader::kLocalSize)),
+                                           cl::NDRange(Shader::kLocalSize));
+    std::vector<float> m(n), e(n);
+    runtime().queue().enqueueReadBuffer(bm, CL_TRUE, 0, n * sizeof(float), m.data());
+    runtime().queue().enqueueReadBuffer(be, CL_TRUE, 0, n * sizeof(float), e.data());
+    const double c = double(1.41421356f);
+    std::size_t bad = 0, first = n;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool ok = e[i] == std::round(e[i]) && double(m[i]) > c / 2 && double(m[i]) <= c &&
+                        std::ldexp(double(m[i]), int(e[i])) == double(X[i]);
+        if (!ok && bad++ == 0) first = i;
+    }
+    std::cout << "sl_split_log2: " << n << " inputs, " << bad << " off\n";
+    INFO("first off: x = " << (first < n ? X[first] : 0.0f) << ", m = " << (first < n ? m[first] : 0.0f) << ", e = "
+                           << (first < n ? e[first] : 0.0f));
+    CHECK(bad == 0);
+}
+
 // pow_nonneg (the models' pow where their base is finite and >= 0) is sl_pow in precise mode without the special
 // cases that cannot occur there: it must give sl_pow's value bit for bit on that whole domain, so that it
 // changes no pixel. Bases: 0, every binade of (0, 1] (denormals included), the last floats below and above 1, and
