@@ -570,7 +570,7 @@ __kernel void split_probe(__global const float* x, __global float* m, __global f
 }
 )CL";
 
-TEST_CASE("sl_split_log2: x = 2^e m exactly, m in (c/2, c], for every significand at five exponents and denormals",
+TEST_CASE("sl_split_log2: x = 2^e m exactly with c/2 < m <= c, for every significand at five exponents and denormals",
           "[precision]") {
     std::vector<float> X;
     for (int exp2 : {-126, -1, 0, 1, 127})
