@@ -412,21 +412,25 @@ SL_INLINE float sl_pow_special(float x, float y, float r) {
     return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
 
-// x = 2^e m with m in [sqrt(1/2), sqrt(2)) for finite x > 0, denormals included (scaled by 2^24 first);
-// returns m and sets *e. e is the exponent field of bits(x) - (bits(c / 2) + 1), c = 1.41421354f (sqrt 2 in
-// float, and c / 2 exact): the difference crosses into the next binade exactly where x's significand exceeds c,
-// so m = x / 2^e by subtracting e from the exponent field, with no compare and select (sl_log2_f's split, at
-// another point). The same m and e, bit for bit, as the former "m0 > c ? m0 / 2 : m0" of the significand m0 in
+// x = 2^e m with m in (lo, 2 lo] for finite x >= 0, denormals included (scaled by 2^24 first), where lo_bits is
+// bits(lo) + 1 for a float lo in [1/2, 1): e is the exponent field of bits(x) - lo_bits, which crosses into
+// the next binade exactly where x's significand exceeds 2 lo, so m = x / 2^e by subtracting e from the exponent
+// field: 4 integer operations and no compare and select. Returns m and sets *e (for x = 0, values of no meaning).
+// Both pows split this way: sl_split_log2 at lo = sqrt(1/2), sl_log2_f at lo = 2/3.
+SL_INLINE float sl_split_at(float x, uint lo_bits, float* e) {
+    const int sub = x < 1.17549435e-38f;
+    const uint bits = as_uint(sub ? x * 16777216.0f : x);
+    const int ei = (int)(bits - lo_bits) >> 23;
+    *e = (float)(ei - (sub ? 24 : 0));
+    return as_float(bits - ((uint)ei << 23));   // unsigned: ei < 0 for x < 1
+}
+
+// x = 2^e m with m in (c / 2, c] for finite x > 0, c = 1.41421354f (sqrt 2 in float, c / 2 exact): sl_split_at at
+// bits(c / 2) + 1. The same m and e, bit for bit, as the former "m0 > c ? m0 / 2 : m0" of the significand m0 in
 // [1, 2), in 4 integer operations for 9 (tests/test_precision.cpp sweeps x == m 2^e, m in (c / 2, c]): precise
 // pow 1.00-1.06x (median 1.02x) in the pow models at 1M and 4M, alternated in one process, where the same code
 // against itself gave 0.97-1.07x (2026-12-05; docs/precision.md, "Precise-mode pow").
-SL_INLINE float sl_split_log2(float x, float* e) {
-    const int sub = x < 1.17549435e-38f;
-    const int bits = as_int(sub ? x * 16777216.0f : x);
-    const int ei = (bits - 0x3f3504f4) >> 23;   // 0x3f3504f3: c / 2 = 0.70710677f
-    *e = (float)(ei - (sub ? 24 : 0));
-    return as_float((uint)bits - ((uint)ei << 23));   // unsigned: ei < 0 for x < 1
-}
+SL_INLINE float sl_split_log2(float x, float* e) { return sl_split_at(x, 0x3f3504f4u, e); }   // c / 2: 0x3f3504f3
 
 // Q(f) = (2^f - 1) / f for |f| <= 1/2 (and the few ulps of a float-float low part beyond): degree 5, fitted for
 // the relative error of 2^f = 1 + f Q(f) (Lawson-weighted least squares: 1.1e-8; 1.6e-7 for f Q(f) evaluated in
@@ -520,21 +524,18 @@ SL_INLINE float sl_pow_nonneg(float x, float y) {
 // (docs/precision.md, "Fast-mode pow"); results below 2^-10 lose the most (|t| up to 126 multiplies log2's
 // error: 1.6e3 ulp, 1e-4 relative, where the former form had 158 ulp).
 
-// log2 x for finite x >= 0 (finite for x = 0 too: sl_fast_pow selects that case). x = 2^e m with m in [2/3, 4/3),
-// found by subtracting the bits of 2/3 (0x3f2aaaab): the exponent field of the difference is e, so there is no
-// compare and select on m as in sl_split_log2's [sqrt(1/2), sqrt(2)) split (4 integer operations for 9). Then
+// log2 x for finite x >= 0 (finite for x = 0 too: sl_fast_pow selects that case). x = 2^e m with m in (2/3, 4/3]
+// (to float rounding) by sl_split_at at 0x3f2aaaab, the bits of 2/3 rounded up to float. Then
 // log2 m = a P(a), a = m - 1 in [-1/3, 1/3) (exact), P of degree 6 fitted to log2(1 + a) / a for relative error
 // (Lawson-weighted least squares, coefficients rounded to float): 1.2e-6 relative evaluated in float, six fmas and
 // no division (the atanh form s = (m - 1) / (m + 1) needs one: the costliest instruction of the loop).
 // m = 1 gives a = 0 and log2 x = e exactly.
 SL_INLINE float sl_log2_f(float x) {
-    const int sub = x < 1.17549435e-38f;   // denormal (or 0): scaled by 2^24 first
-    const uint bits = as_uint(sub ? x * 16777216.0f : x);
-    const int ei = (int)(bits - 0x3f2aaaabu) >> 23;
-    const float a = as_float(bits - ((uint)ei << 23)) - 1.0f;
+    float e;
+    const float a = sl_split_at(x, 0x3f2aaaabu, &e) - 1.0f;
     const float hi = fma(fma(2.46199399e-1f, a, -2.79993892e-1f), a, 2.85692483e-1f);   // Horner, highest first
     const float p = fma(fma(fma(fma(hi, a, -3.58389348e-1f), a, 4.80960906e-1f), a, -7.21379876e-1f), a, 1.44269478f);
-    return fma(a, p, (float)(ei - (sub ? 24 : 0)));
+    return fma(a, p, e);
 }
 
 // 2^t for t in [-126, 128] (0 below, +inf above), without sl_exp2_ff's low part: k = rint(t), f = t - k, and 2^f
