@@ -266,20 +266,13 @@ def listing(rows, key, digits=2, suffix=""):
     return ", ".join(f"{r['model']} {fmt(float(r[key]), digits)}{suffix}" for r in rows) or "none"
 
 
-def plain_count(rows, target):
-    """'met by K of N' against the plain-store triad (bench_models' of_plain_stream; older CSVs lack it)."""
-    have = [r for r in rows if r.get("of_plain_stream")]
+def count_met(rows, key, target):
+    """'met by K of N' on one of bench_models' other yardsticks (of_plain_stream, the plain-store triad;
+    of_stream_footprint, the triad over the model's footprint), over the rows that have it (older CSVs lack them)."""
+    have = [r for r in rows if r.get(key)]
     if not have:
         return "not measured"
-    return f"met by {len([r for r in have if float(r['of_plain_stream']) >= target])} of {len(have)}"
-
-
-def footprint_count(rows, target):
-    """'met by K of N' against the triad over the model's footprint (bench_models' of_stream_footprint)."""
-    have = [r for r in rows if r.get("of_stream_footprint")]
-    if not have:
-        return "not measured"
-    return f"met by {len([r for r in have if float(r['of_stream_footprint']) >= target])} of {len(have)}"
+    return f"met by {len([r for r in have if float(r[key]) >= target])} of {len(have)}"
 
 
 def models_targets(m):
@@ -294,6 +287,8 @@ def models_targets(m):
     pow_fast = m.with_target("fast", "x_precise>=1.3")
     pow_ok = [r for r in pow_fast if float(r["fast_x_precise"]) >= 1.3]
     same = m.with_target("fast", "same code")
+    fp_precise = [r for r in precise if r.get("of_stream_footprint")]
+    fp_low = sorted(fp_precise, key=lambda r: float(r["of_stream_footprint"]))[:3]
     lines = [
         f"- **Every model >= 0.25 of STREAM (precise, {s}): {verdict(len(ok), len(precise))}** "
         f"(lowest: {listing(low, 'of_stream')}).",
@@ -303,14 +298,14 @@ def models_targets(m):
         f"({listing(trans, 'x_cpp', 1, 'x')}).{per_size_cpp(m, trans)}",
         f"- Against plain STREAM alone (the triad with plain stores, as McCalpin's C code, which pays the "
         f"write-allocate read that the kernels' streaming stores avoid past the cache): every model >= 0.25 "
-        f"{plain_count(precise, 0.25)}, cheap models >= 0.8 {plain_count(cheap, 0.8)} "
+        f"{count_met(precise, 'of_plain_stream', 0.25)}, cheap models >= 0.8 {count_met(cheap, 'of_plain_stream', 0.8)} "
         f"({listing(cheap, 'of_plain_stream')}).",
         f"- Against STREAM over the model's footprint (the triad's three arrays as many bytes as the model's "
         f"planes, where the target's arrays have the planes' length: a third or a quarter of those bytes, which a "
         f"large last-level cache can hold when the planes do not): every model >= 0.25 "
-        f"{footprint_count(precise, 0.25)} (lowest: "
-        f"{listing(sorted([r for r in precise if r.get('of_stream_footprint')], key=lambda r: float(r['of_stream_footprint']))[:3], 'of_stream_footprint')}), "
-        f"cheap models >= 0.8 {footprint_count(cheap, 0.8)} "
+        f"{count_met(precise, 'of_stream_footprint', 0.25)} (lowest: "
+        f"{listing(fp_low, 'of_stream_footprint')}), "
+        f"cheap models >= 0.8 {count_met(cheap, 'of_stream_footprint', 0.8)} "
         f"({listing([r for r in cheap if r.get('of_stream_footprint')], 'of_stream_footprint')}).",
         f"- **Fast >= 1.3x precise where fast is different code (the {len(pow_fast)} models that call pow, {s}): "
         f"{verdict(len(pow_ok), len(pow_fast))}**{spread(pow_fast)}; the models whose fast build is the same code "
