@@ -446,6 +446,8 @@ constexpr int kMaxFrames = 200;
 // its threads scale, with its stages. The bar is 2 threads >= 1.7x one thread on an idle machine. Each thread count
 // rasterises into a buffer of its own kept from frame to frame, as the frame does (a fresh buffer's page faults,
 // ~160 MB of them at 4096x4096, are the kernel's work, and moved the 2-thread figure by up to 1.4x between runs).
+// The core speed probe after it says what the cores allowed then: on a host that shares them, 2 threads of
+// dependent additions did as little as 1.2-1.8x one thread.
 void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int frames, double min_ms) {
     RasterStats best[2];
     double best_ms[2] = {1e30, 1e30}, spent = 0.0;
@@ -472,8 +474,11 @@ void print_raster_scaling(const Mesh& mesh, const Scene& s, int w, int h, int fr
     for (int k = 0; k < 2; ++k)
         std::printf("rasteriser alone, %d thread%s: %7.2f ms (set-up %.2f, rasterise %.2f, emit %.2f)\n", counts[k],
                     counts[k] == 1 ? " " : "s", best_ms[k], best[k].setup_ms, best[k].raster_ms, best[k].emit_ms);
-    std::printf("rasteriser threads: %d threads = %.2fx one thread (bar: 1.7x on an idle machine)\n", kThreads,
-                best_ms[0] / best_ms[1]);
+    // what the cores allowed just then (bench_util.hpp): the most any 2-thread code could have gained
+    const bench::CoreProbe probe = bench::core_probe(kThreads);
+    std::printf("rasteriser threads: %d threads = %.2fx one thread (bar: 1.7x on an idle machine); core probe after "
+                "it: %d threads at once = %.2fx one alone (%.2f G adds/s alone)\n",
+                kThreads, best_ms[0] / best_ms[1], kThreads, probe.scaling(), probe.alone);
 }
 
 bool all_finite(const Image& img) {
@@ -727,6 +732,7 @@ void check_options(const Options& o) {
 
 void print_preamble(const Options& o, Runtime& rt, const GlContext& gl) {
     std::printf("machine:  %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
+    std::printf("at the start, %s\n", bench::core_probe().line().c_str());
     std::printf("shadelab: rasteriser on %d threads; OpenCL %s, %u compute units\n", kThreads,
                 rt.device_description().c_str(), rt.device().getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>());
     std::printf("llvmpipe: GL_RENDERER '%s', GL_VERSION '%s', LP_NUM_THREADS=%s\n", gl.renderer().c_str(),
@@ -810,6 +816,7 @@ int run(const Options& o) {
         }
     }
     print_summary(o, rows, agree);
+    std::printf("at the end, %s\n", bench::core_probe().line().c_str());
     if (!o.csv.empty()) {
         write_csv(csv, o.csv, rows, o.target);
         std::printf("csv: %s\n", o.csv.c_str());

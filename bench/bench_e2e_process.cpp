@@ -330,6 +330,7 @@ int main(int argc, char** argv) {
         const fs::path tmp = fs::temp_directory_path() / ("shadelab-bench-process-" + std::to_string(::getpid()));
         fs::create_directories(tmp);
         std::printf("machine: %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
+        std::printf("at the start, %s\n", bench::core_probe().line().c_str());
         const std::string self = fs::canonical("/proc/self/exe").string();
         if (contact_only) {
             bench::bench_contact(run_capture, self, tmp, std::max(1, contact_reps));
@@ -349,6 +350,7 @@ int main(int argc, char** argv) {
             if (!smoke && !no_planning) bench::bench_planning(run_capture, self, tmp, plan_scenes);
         }
         bench_meshes(smoke ? std::vector<std::string>{mesh_dir + "/spot.obj"} : meshes, reps, tmp);
+        std::printf("at the end, %s\n", bench::core_probe().line().c_str());
         fs::remove_all(tmp);
         return 0;
     } catch (const std::exception& e) {

@@ -388,9 +388,8 @@ LoopResult cpp_loop(const Material& m, const FragmentBuffer& fb, const std::vect
 
 // The 1-minute load average (/proc/loadavg), as printed with the figures: the machine is shared.
 std::string load_average() {
-    std::ifstream in("/proc/loadavg");
-    std::string one;
-    return in >> one ? one : "unknown";
+    const std::string all = bench::load_average();
+    return all.substr(0, all.find(' '));
 }
 
 std::string fixed(double v, int digits) {
@@ -549,8 +548,10 @@ int main(int argc, char** argv) {
         }
         Runtime rt(ro);
         Shader shader(rt);
+        const bench::CoreProbe probe_start = bench::core_probe();
         std::cout << "machine: " << std::thread::hardware_concurrency() << " threads, " << bench::cpu_name() << "\n"
                   << "device:  " << rt.device_description() << "\n"
+                  << "at the start, " << probe_start.line() << "\n"
 
                   << "ratios are measured in this run; kernel times are device times from profiling events, best of "
                   << opt.repeats.describe() << "; STREAM is re-timed before every model; the modes of a model are timed alternately\n";
@@ -690,13 +691,15 @@ int main(int argc, char** argv) {
                 if (verdict == "?" || verdict.find("no") != std::string::npos)
                     std::cout << "  not vectorised: " << key << ": " << verdict << "\n";
         }
+        const bench::CoreProbe probe_end = bench::core_probe();
         if (!opt.markdown.empty()) {
             std::ostringstream md;
             md << "<!-- written by: build/bench_models --markdown <this file> (bench/bench_models.cpp); do not edit -->\n"
                << "Machine: " << std::thread::hardware_concurrency() << " threads, " << bench::cpu_name()
                << "; device " << rt.device_description() << "; load average (1 min) " << load_start
                << " at the start, " << load_average() << " at the end (the machine is shared: only ratios within "
-               << "this run mean something). Kernel times: best of " << opt.repeats.describe() << ".\n\n"
+               << "this run mean something). At the start, " << probe_start.line() << "; at the end, "
+               << probe_end.line() << ". Kernel times: best of " << opt.repeats.describe() << ".\n\n"
                << "STREAM on PoCL: ";
             for (std::size_t i = 0; i < stream_lines.size(); ++i) md << (i ? "; " : "") << stream_lines[i];
             md << ".\n\n| fragments | model | mode | Mfrag/s | GB/s | of STREAM | of STREAM (footprint) | x C++ | x ref | fast / precise | vectorised | verdict |\n"
@@ -731,6 +734,7 @@ int main(int argc, char** argv) {
                   << " of STREAM triad at " << size_label(kStreamTargetSize) << "; transcendental models (precise) >= "
                   << kCppTarget << "x C++; fast >= " << kFastTarget << "x precise where the code differs (pow), >= "
                   << kSameCodeFloor << "x where it is the same code; every kernel vectorised\n"
+                  << "at the end, " << probe_end.line() << "\n"
                   << misses.size() << " rows miss a target" << (misses.empty() ? "" : " (MISS lines above)") << "\n"
                   << (finite ? "all outputs finite" : "NON-FINITE OUTPUT FOUND") << "\n"
                   << (loops_agree ? "every C++ loop agrees with its kernel"

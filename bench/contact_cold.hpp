@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "bench_util.hpp"   // load_average
 #include "core/error.hpp"
 #include "scene/contact.hpp"
 
@@ -32,14 +33,6 @@ inline int child_contact(const std::string& output, bool shared) {
     if (!r.failed.empty()) throw Error("contact sheet: " + r.failed.front());
     std::printf("contact %.1f builds %.1f programs %zu\n", r.ms, 1000.0 * rt.build_seconds(), rt.programs_built());
     return 0;
-}
-
-// The load averages (/proc/loadavg's first three fields), printed with the figures: the machine may be shared.
-inline std::string load_average() {
-    std::ifstream in("/proc/loadavg");
-    std::string a, b, c;
-    in >> a >> b >> c;
-    return a + " " + b + " " + c;
 }
 
 inline double children_cpu_s() {

@@ -57,6 +57,21 @@ def load_average():
         return " ".join(f.read().split()[:3])
 
 
+PROBE = re.compile(r"core speed probe: ([\d.]+) alone,((?: [\d.]+)+) at once G adds/s")
+
+
+def core_probe(a):
+    """bench/core_probe.cpp's line (one thread's G dependent adds/s alone, each thread's at once: on an idle core
+    its clock in GHz, less where the host shares the cores), as {"alone", "at_once"}; None if it did not run."""
+    m = PROBE.search(sh([os.path.join(a.build, "core_probe")]))
+    return {"alone": float(m.group(1)), "at_once": [float(x) for x in m.group(2).split()]} if m else None
+
+
+def probe_text(p):
+    """'1.37 alone, 2.43 at once' (G adds/s), or '-' for a record without a probe."""
+    return f"{p['alone']:.2f} alone, {sum(p['at_once']):.2f} at once" if p else "-"
+
+
 def cpu_model():
     with open("/proc/cpuinfo") as f:
         for line in f:
@@ -122,11 +137,11 @@ def scrub(text, tmp):
 
 
 def run_step(label, argv, log, env, a, tmp):
-    start_load, t0 = load_average(), time.time()
+    start_load, start_probe, t0 = load_average(), core_probe(a), time.time()
     path = os.path.join(a.data, log)
     with open(path, "w") as out:
         rc = subprocess.run(argv, cwd=ROOT, stdout=out, stderr=subprocess.STDOUT, env=dict(os.environ, **env)).returncode
-    seconds, end_load = round(time.time() - t0, 1), load_average()
+    seconds, end_load, end_probe = round(time.time() - t0, 1), load_average(), core_probe(a)
     with open(path) as f:
         text = scrub(f.read(), tmp)
     with open(path, "w") as f:
@@ -134,7 +149,7 @@ def run_step(label, argv, log, env, a, tmp):
     if rc != 0:
         raise BenchFailed(f"speed_report: {label} failed (exit status {rc}); its log: {os.path.relpath(path)}")
     return {"bench": label, "command": scrub(" ".join(argv), tmp), "load_start": start_load, "load_end": end_load,
-            "seconds": seconds, "log": log}
+            "probe_start": start_probe, "probe_end": end_probe, "seconds": seconds, "log": log}
 
 
 def run_part(part, a, rev):
@@ -160,8 +175,8 @@ def run_part(part, a, rev):
 
 
 def check_built(parts, a):
-    need = {"models": ["bench_models"], "e2e": ["bench_e2e"], "process": ["bench_e2e_process", "shadelab"],
-            "chart": ["shadelab"]}
+    need = {"models": ["bench_models", "core_probe"], "e2e": ["bench_e2e", "core_probe"],
+            "process": ["bench_e2e_process", "shadelab", "core_probe"], "chart": ["shadelab", "core_probe"]}
     missing = sorted({t for p in parts for t in need[p] if not os.access(os.path.join(a.build, t), os.X_OK)})
     if missing:
         print(f"speed_report: not built: {', '.join(missing)}; build with: cmake --build {os.path.relpath(a.build)} "
@@ -205,8 +220,12 @@ def run_line(run, part):
     steps = run["steps"]
     loads = "; ".join(f"{s['bench']} {s['load_start'].split()[0]} -> {s['load_end'].split()[0]}" for s in steps)
     quick = " **--quick run: smoke sizes, the figures mean nothing**" if run.get("quick") else ""
+    probes = "; ".join(f"{s['bench']} {probe_text(s.get('probe_start'))} -> {probe_text(s.get('probe_end'))}"
+                       for s in steps if s.get("probe_start") or s.get("probe_end"))
+    probes = (f"; [core speed probe](#core-probe) (G dependent adds/s; an idle core's GHz) at start -> end: "
+              f"{probes}") if probes else ""
     return (f"*Run: {run['date']}, revision `{run['revision']}`, {run['cores']} cores of an `{run['cpu']}`, PoCL device "
-            f"`{run['device']}`; load average (1 min) at start -> end: {loads}.*{quick}")
+            f"`{run['device']}`; load average (1 min) at start -> end: {loads}{probes}.*{quick}")
 
 
 def verdict(k, n):
@@ -343,6 +362,9 @@ class E2e:
             self.groups.setdefault((r["mesh"], r["triangles"], r["width"], r["height"]), []).append(r)
         self.threads = re.findall(r"^== (\S+) \((\d+) triangles\), (\d+)x(\d+).*?^rasteriser threads: \d+ threads = "
                                   r"([\d.]+)x", self.text, re.S | re.M)
+        # the core speed probe after each case: what 2 threads of dependent adds did against one (None: older log)
+        self.probe_scaling = [float(x) for x in re.findall(r"core probe after it: \d+ threads at once = ([\d.]+)x",
+                                                          self.text)]
 
 
 def med(rows, key):
@@ -376,12 +398,16 @@ def e2e_targets(e):
     th = [(f"{m} {w}x{h}", float(x)) for m, _, w, h, x in e.threads]
     th_met = sum(1 for _, x in th if x >= 1.7)
     th_range = f"{fmt(min(x for _, x in th))}x - {fmt(max(x for _, x in th))}x" if th else "-"
+    ps = e.probe_scaling
+    probe_scaling = (f"; the [core speed probe](#core-probe) after each case: 2 threads of dependent additions at once "
+                     f"{fmt(min(ps))}x - {fmt(max(ps))}x one alone (the most any 2-thread code could gain just then)"
+                     if ps else "")
     return "\n".join([
         f"- **Target >= {target:g}x llvmpipe on every row: {verdict(met, len(rows))}** (worst "
         f"{fmt(float(worst['ratio']))}x: {worst['mesh']} {worst['width']}x{worst['height']} {worst['model']} "
         f"{worst['mode']}); shadelab faster than llvmpipe in {faster} of {len(rows)} rows.",
         f"- **Rasteriser on 2 threads >= 1.7x one thread: {verdict(th_met, len(th))}** ({th_range} over the "
-        f"(mesh, size) cases; the bar is for an idle machine, see the load above).",
+        f"(mesh, size) cases; the bar is for an idle machine, see the load above){probe_scaling}.",
         f"- Where shadelab's time goes, summed over the {len(rows)} rows: {share}, the rest {rest:.0f}%.",
         f"- Agreement: coverage differs from llvmpipe on at most {100 * max(float(r['coverage_mismatch_fraction']) for r in rows):.4f}% "
         f"of the pixels of a row; p99 Delta E 2000 <= {max(float(r['de_p99']) for r in rows):.4f} and mean <= "
@@ -591,17 +617,22 @@ def wall(seconds):
 
 
 def runs_block(runs):
-    out = ["| part | run (UTC) | revision | CPU, cores | PoCL device | bench: load average (1 min) start -> end, wall time |",
-           "| --- | --- | --- | --- | --- | --- |"]
+    out = ["| part | run (UTC) | revision | CPU, cores | PoCL device | bench: load average (1 min) start -> end, wall time "
+           "| [core speed probe](#core-probe), G adds/s start -> end |",
+           "| --- | --- | --- | --- | --- | --- | --- |"]
     for part in PARTS:
         r = runs.get(part)
         if not r:
-            out.append(f"| {part} | not run | | | | |")
+            out.append(f"| {part} | not run | | | | | |")
             continue
         steps = "; ".join(f"{s['bench']}: {s['load_start'].split()[0]} -> {s['load_end'].split()[0]}, "
                           f"{wall(s['seconds'])}" for s in r["steps"])
+        probes = "; ".join(f"{s['bench']}: {probe_text(s.get('probe_start'))} -> {probe_text(s.get('probe_end'))}"
+                           for s in r["steps"])
+        if not any(s.get("probe_start") or s.get("probe_end") for s in r["steps"]):
+            probes = "not recorded (a run from before the probe)"
         out.append(f"| {part}{' (--quick)' if r.get('quick') else ''} | {r['date']} | `{r['revision']}` | {r['cpu']}, "
-                   f"{r['cores']} | {r['device']} | {steps} |")
+                   f"{r['cores']} | {r['device']} | {steps} | {probes} |")
     return "\n".join(out)
 
 

@@ -6,8 +6,8 @@ figures never rots. No timing is checked; what is checked:
 - the run exits 0, and every `<!-- speed_report:begin NAME -->` block of the copy was filled from this run
   (names its run and says it was a --quick run), none left "not run yet";
 - the hand-written text outside the blocks, and the blocks' names and order, are those of docs/speed.md;
-- the run's record (speed_run_PART.json) has date, revision, CPU, device and load for every bench, and no raw
-  output names the checkout's folder;
+- the run's record (speed_run_PART.json) has date, revision, CPU, device, load and the core speed probe for every
+  bench, and no raw output names the checkout's folder;
 - a bench that fails is named in one line with its exit status and leaves the page byte for byte as it was;
   a missing program is named with the target to build (exit 2).
 
@@ -68,6 +68,10 @@ def check_record(data, source):
         for s in r["steps"]:
             if not (re.match(r"^[\d.]+ [\d.]+ [\d.]+$", s["load_start"]) and re.match(r"^[\d.]+ ", s["load_end"])):
                 fail(f"speed_run_{part}.json: no load average for {s['bench']}")
+            for key in ["probe_start", "probe_end"]:   # bench/core_probe.cpp: G adds/s alone and of each thread at once
+                p = s.get(key)
+                if not (p and p["alone"] > 0 and p["at_once"] and all(g > 0 for g in p["at_once"])):
+                    fail(f"speed_run_{part}.json: no core speed probe ({key}) for {s['bench']}: {p}")
     for f in os.listdir(data):
         path = os.path.join(data, f)
         if os.path.isfile(path) and f.endswith((".txt", ".json", ".md")):
@@ -77,13 +81,14 @@ def check_record(data, source):
     print("run record complete, no checkout paths in the raw outputs")
 
 
-def check_failure(script, work, page):
+def check_failure(script, work, page, build):
     fake = os.path.join(work, "fake-build")
     os.makedirs(fake)
     prog = os.path.join(fake, "bench_models")
     with open(prog, "w") as f:
         f.write("#!/bin/sh\necho 'bench_models: error: pretend'\nexit 3\n")
     os.chmod(prog, os.stat(prog).st_mode | stat.S_IEXEC)
+    shutil.copy(os.path.join(build, "core_probe"), fake)   # the run asks for it before and after each bench
     before = open(page, "rb").read()
     r = run(script, "--only", "models", "--build", fake, "--data", os.path.join(work, "fail"), "--doc", page)
     lines = r.stderr.strip().splitlines()
@@ -113,7 +118,7 @@ def main():
             fail(f"speed_report.py --quick exited {r.returncode}")
         check_filled(open(page).read(), original)
         check_record(data, source)
-        check_failure(script, work, page)
+        check_failure(script, work, page, build)
     finally:
         shutil.rmtree(work, ignore_errors=True)
     print("PASS")
