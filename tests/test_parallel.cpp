@@ -3,11 +3,13 @@
 // workers have gone to sleep; a call from inside a part and calls from two threads at once (the pool busy)
 // still run every part; an exception from any part reaches the caller after every part has returned; a child
 // made by fork() (whose parent's workers do not exist there) runs every part too.
+// run_pieces, on top of it: every piece exactly once, none past the end, whatever the thread and piece counts.
 #include <catch2/catch.hpp>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
@@ -111,4 +113,18 @@ TEST_CASE("run_parallel: a child made by fork() runs every part on a pool of its
     INFO("child status " << status);
     CHECK(WIFEXITED(status));
     CHECK(WEXITSTATUS(status) == 0);
+}
+
+TEST_CASE("run_pieces: every piece exactly once, for 0 to 40 pieces on 1 to 4 threads", "[parallel]") {
+    for (int threads = 1; threads <= 4; ++threads)
+        for (std::size_t pieces : {std::size_t(0), std::size_t(1), std::size_t(2), std::size_t(3), std::size_t(17),
+                                   std::size_t(40)})
+            for (int call = 0; call < 20; ++call) {
+                std::vector<std::atomic<int>> runs(pieces + 1);
+                for (auto& r : runs) r = 0;
+                run_pieces(threads, pieces, [&](std::size_t i) { runs[std::min(i, pieces)]++; });
+                INFO(threads << " threads, " << pieces << " pieces, call " << call);
+                for (std::size_t i = 0; i < pieces; ++i) REQUIRE(runs[i] == 1);
+                REQUIRE(runs[pieces] == 0);   // no index past the end
+            }
 }

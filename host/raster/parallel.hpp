@@ -1,7 +1,9 @@
 // Fork-join over a few threads, for the rasteriser and the image paths (resolve, 8-bit encoding). Every user
-// splits its work into contiguous ranges that depend only on the count, so results never depend on timing.
+// splits its work into contiguous ranges or pieces that depend only on the counts, each written by one thread
+// alone, so results never depend on timing.
 #pragma once
 #include <algorithm>
+#include <atomic>
 #include <cstddef>
 #include <thread>
 
@@ -38,5 +40,20 @@ void run_parallel(int n, const Fn& fn) {
 
 // First index of part i when [0, n) is split into `parts` contiguous ranges (part i is [split(i), split(i+1))).
 inline std::size_t split(std::size_t n, int parts, int i) { return n * std::size_t(i) / std::size_t(parts); }
+
+// Runs fn(i) for every piece i in [0, pieces) on up to `threads` threads, each taking the next piece from a
+// shared counter. Cut a stage into more pieces than threads when its threads must all finish before the next
+// stage: with one contiguous range a thread, a thread the machine did not run for a while (a virtual machine
+// whose host shares its cores with other guests: docs/speed.md, "core speed probe") kept the others waiting.
+// Which thread takes which piece depends on timing, so fn(i) must write only what piece i owns.
+template <class Fn>
+void run_pieces(int threads, std::size_t pieces, const Fn& fn) {
+    if (pieces == 0) return;
+    const int n = int(std::min<std::size_t>(std::size_t(std::max(1, threads)), pieces));
+    std::atomic<std::size_t> next{0};
+    run_parallel(n, [&](int) {
+        for (std::size_t i = next++; i < pieces; i = next++) fn(i);
+    });
+}
 
 }  // namespace shadelab

@@ -16,9 +16,10 @@
 //                       blocks of kLanes pixels, each block one AVX computation stored straight into the
 //                       fragment arrays (emit_block_avx; without AVX a vectorised loop, emit_lanes); emit_pixel,
 //                       the one-pixel path, takes the rare fallbacks.
-// Threads: vertices and triangles are split into contiguous ranges for set-up and binning; threads take
-// tiles, then bands of rows for emission, from a shared counter. Every per-pixel result is computed
-// the same way whatever the split, so the output is bit-identical for any thread count.
+// Threads: vertices and triangles are cut into blocks and chunks of a fixed size for set-up and binning,
+// tiles and bands of rows for rasterisation and emission, and threads take the next one from a shared counter.
+// Every per-pixel result is computed the same way whatever the split and whichever thread takes which piece,
+// so the output is bit-identical for any thread count.
 #include "raster/raster.hpp"
 
 #include <algorithm>
@@ -1184,8 +1185,17 @@ void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
     for (int k = 0; k < 3; ++k) __builtin_prefetch(&vertices[tri[k]]);
 }
 
+// Set-up's pieces: vertices in blocks of kVertexBlock, triangles in chunks of kSetupChunk (the last ones
+// shorter), taken by the threads from a shared counter. With one contiguous range a thread, a thread that the
+// machine did not run for a while (a virtual machine's host shares its cores with other guests: see
+// docs/speed.md, "core speed probe") kept the other waiting at the end of the stage; set-up on 2 threads was
+// then as slow as on one, or slower (the bunny at 512x512: 7.2 ms on one thread, 9.4 ms on two). Chunks of a
+// fixed size also make the split the same for every thread count. A chunk's cost in the later stages is one
+// bin list a tile (kTileW x kTileH pixels: 2,048 at 4096 x 4096).
+constexpr std::size_t kVertexBlock = 8192, kSetupChunk = 4096;
+
 // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
-//    vertices all have w >= z_near > 0); 2. triangle set-up in contiguous ranges of mesh triangles; ids
+//    vertices all have w >= z_near > 0); 2. triangle set-up in chunks of kSetupChunk mesh triangles; ids
 //    follow mesh order (the depth tie-break). The arrays are the calling thread's SetupMemory.
 SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     const std::size_t nv = mesh.positions.size();
@@ -1196,8 +1206,8 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     glm::dvec4* const clip = mem.clip.data();
     SetupVertex* const vertices = mem.vertices.data();
     ScreenVertex* const sv = mem.sv.data();
-    run_parallel(threads, [&](int i) {
-        for (std::size_t v = split(nv, threads, i), e = split(nv, threads, i + 1); v < e; ++v) {
+    run_pieces(threads, (nv + kVertexBlock - 1) / kVertexBlock, [&](std::size_t block) {
+        for (std::size_t v = block * kVertexBlock, e = std::min(nv, v + kVertexBlock); v < e; ++v) {
             clip[v] = to_clip(f.view_projection, mesh.positions[v]);
             const glm::dvec2 screen = viewport_transform(clip[v], f.width, f.height);
             vertices[v] = SetupVertex{screen, ndc_depth(clip[v]), outcode(clip[v], f.guard)};
@@ -1205,15 +1215,15 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
         }
     });
     SetupResult s{sv, mem.chunks, {}};
-    s.chunks.resize(static_cast<std::size_t>(threads));
     const std::size_t nt = mesh.triangles.size();
-    run_parallel(threads, [&](int i) {
-        Chunk& chunk = s.chunks[std::size_t(i)];
+    s.chunks.resize(std::max<std::size_t>(1, (nt + kSetupChunk - 1) / kSetupChunk));
+    run_pieces(threads, s.chunks.size(), [&](std::size_t i) {
+        Chunk& chunk = s.chunks[i];
         chunk.raster.clear();
         chunk.shade.clear();
         chunk.clipped.clear();
         chunk.stats = RasterStats{};
-        const std::size_t b = split(nt, threads, i), e = split(nt, threads, i + 1);
+        const std::size_t b = std::min(nt, i * kSetupChunk), e = std::min(nt, b + kSetupChunk);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
         for (std::size_t t = b; t < e; ++t) {
@@ -1235,7 +1245,7 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
 Scratch& raster_all(const SetupResult& s, const Tiling& g, int threads) {
     std::vector<Bins>& bins = setup_memory().bins;
     bins.resize(s.chunks.size());
-    run_parallel(threads, [&](int i) { bin_chunk(s.chunks[std::size_t(i)], g, bins[std::size_t(i)]); });
+    run_pieces(threads, s.chunks.size(), [&](std::size_t i) { bin_chunk(s.chunks[i], g, bins[i]); });
     Scratch& scratch = scratch_for(std::size_t(g.width) * std::size_t(g.height), std::size_t(g.tiles_x) * std::size_t(g.height));
     const TileContext tc{&g, &s.chunks, &bins, &s.first_id, scratch.owner.get(), scratch.spans.get()};
     std::atomic<int> next_tile{0};

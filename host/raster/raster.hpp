@@ -10,9 +10,10 @@
 //    flipped to face the camera only if flip_normals_to_viewer is set (default off: shading sees the
 //    mesh's own normals).
 // Output fragments are ordered by pixel index, so runs are deterministic whatever the thread count.
-// Work: set-up in contiguous ranges of triangles per thread; binning into 128 x 64 pixel tiles that threads
-// take one at a time (the visibility buffer of a tile stays in cache); emission in bands of 16-64 rows. Every
-// pixel's result is computed the same way whatever the split: bit-identical for any thread count.
+// Work: set-up and binning in chunks of 4096 triangles; rasterisation in 128 x 64 pixel tiles (the visibility
+// buffer of a tile stays in cache); emission in bands of 16-64 rows; threads take the next piece of each stage
+// from a shared counter. Every pixel's result is computed the same way whatever the split: bit-identical for any
+// thread count.
 #pragma once
 #include <cstddef>
 
