@@ -412,17 +412,26 @@ SL_INLINE float sl_pow_special(float x, float y, float r) {
     return (y == 0.0f || x == 1.0f) ? 1.0f : v;
 }
 
-// x = 2^e m with m in (lo, 2 lo] for finite x >= 0, denormals included (scaled by 2^24 first), where lo_bits is
-// bits(lo) + 1 for a float lo in [1/2, 1): e is the exponent field of bits(x) - lo_bits, which crosses into
-// the next binade exactly where x's significand exceeds 2 lo, so m = x / 2^e by subtracting e from the exponent
-// field: 4 integer operations and no compare and select. Returns m and sets *e (for x = 0, values of no meaning).
-// Both pows split this way: sl_split_log2 at lo = sqrt(1/2), sl_log2_f at lo = 2/3.
+// x = 2^e m with m in (lo, 2 lo] for a normal float x > 0 (x >= 2^-126), where lo_bits is bits(lo) + 1 for a
+// float lo in [1/2, 1): e is the exponent field of bits(x) - lo_bits, which crosses into the next binade exactly
+// where x's significand exceeds 2 lo, so m = x / 2^e by subtracting e from the exponent field: 3 integer
+// operations and a conversion, no compare and select. Returns m and sets *e. For 0 and the denormals the values
+// have no meaning, but m is a normal float in [1/2, 2) (no operation on it meets a denormal).
+SL_INLINE float sl_split_normal_at(float x, uint lo_bits, float* e) {
+    const uint bits = as_uint(x);
+    const int ei = (int)(bits - lo_bits) >> 23;
+    *e = (float)ei;
+    return as_float(bits - ((uint)ei << 23));   // unsigned: ei < 0 for x < 1
+}
+
+// The same for finite x >= 0, denormals included (scaled by 2^24 first). Returns m and sets *e (for x = 0, values
+// of no meaning). Precise pow splits this way (sl_split_log2, at lo = sqrt(1/2)); fast pow takes the denormals
+// as 0 (sl_fast_pow) and splits normal floats only (sl_log2_f, sl_split_normal_at at lo = 2/3).
 SL_INLINE float sl_split_at(float x, uint lo_bits, float* e) {
     const int sub = x < 1.17549435e-38f;
-    const uint bits = as_uint(sub ? x * 16777216.0f : x);
-    const int ei = (int)(bits - lo_bits) >> 23;
-    *e = (float)(ei - (sub ? 24 : 0));
-    return as_float(bits - ((uint)ei << 23));   // unsigned: ei < 0 for x < 1
+    const float m = sl_split_normal_at(sub ? x * 16777216.0f : x, lo_bits, e);
+    *e -= sub ? 24.0f : 0.0f;   // exact: |e| < 2^8
+    return m;
 }
 
 // x = 2^e m with m in (c / 2, c] for finite x > 0, c = 1.41421354f (sqrt 2 in float, c / 2 exact): sl_split_at at
@@ -524,15 +533,16 @@ SL_INLINE float sl_pow_nonneg(float x, float y) {
 // (docs/precision.md, "Fast-mode pow"); results below 2^-10 lose the most (|t| up to 126 multiplies log2's
 // error: 1.6e3 ulp, 1e-4 relative, where the former form had 158 ulp).
 
-// log2 x for finite x >= 0 (finite for x = 0 too: sl_fast_pow selects that case). x = 2^e m with m in (2/3, 4/3]
-// (to float rounding) by sl_split_at at 0x3f2aaaab, the bits of 2/3 rounded up to float. Then
+// log2 x for a normal float x > 0 (finite for 0 and the denormals too, with no meaning: sl_fast_pow selects those
+// away). x = 2^e m with m in (2/3, 4/3] (to float rounding) by sl_split_normal_at at 0x3f2aaaab, the bits of 2/3
+// rounded up to float. Then
 // log2 m = a P(a), a = m - 1 in [-1/3, 1/3) (exact), P of degree 6 fitted to log2(1 + a) / a for relative error
 // (Lawson-weighted least squares, coefficients rounded to float): 1.2e-6 relative evaluated in float, six fmas and
 // no division (the atanh form s = (m - 1) / (m + 1) needs one: the costliest instruction of the loop).
 // m = 1 gives a = 0 and log2 x = e exactly.
 SL_INLINE float sl_log2_f(float x) {
     float e;
-    const float a = sl_split_at(x, 0x3f2aaaabu, &e) - 1.0f;
+    const float a = sl_split_normal_at(x, 0x3f2aaaabu, &e) - 1.0f;
     const float hi = fma(fma(2.46199399e-1f, a, -2.79993892e-1f), a, 2.85692483e-1f);   // Horner, highest first
     const float p = fma(fma(fma(fma(hi, a, -3.58389348e-1f), a, 4.80960906e-1f), a, -7.21379876e-1f), a, 1.44269478f);
     return fma(a, p, e);
@@ -557,11 +567,16 @@ SL_INLINE float sl_exp2_f(float t) {
 // x^y = 2^(y log2 x) for finite x >= 0 and finite y: fast mode's contract is -ffinite-math-only's. A negative,
 // infinite or NaN x or y gives an unspecified value (a shading kernel writes any non-finite channel as 0, and
 // no model passes such an x: they clamp first), which saves the five lane-wise tests of sl_pow_special.
-// Exact as pow: x = 0 (0 for y > 0, +inf for y < 0), y = 0 (1, for x = 0 too) and x = 1 (log2 1 = 0 exactly).
+// A denormal x (below 2^-126) is taken as 0, as OpenCL's -cl-denorms-are-zero takes it: x^y is then pow(0, y)
+// (0 for y > 0, 1 for y = 0, +inf for y < 0), where a model's base that small is a cosine at the edge of its
+// range. That saves splitting denormals (precise pow scales them by 2^24 first) and a test for y = 0: for a
+// normal x, y = 0 gives 2^0 = 1 exactly. 2026-12-06: the pow models in fast mode 1.0-1.4x (median about 1.15x)
+// as fast as with the former split, alternated in one process (docs/precision.md, "Fast-mode pow").
+// Exact as pow: x = 0 (0 for y > 0, +inf for y < 0), y = 0 (1) and x = 1 (log2 1 = 0 exactly).
 SL_INLINE float sl_fast_pow(float x, float y) {
     const float r = sl_exp2_f(y * sl_log2_f(x));
-    const float at_zero = y > 0.0f ? 0.0f : INFINITY;
-    return y == 0.0f ? 1.0f : (x == 0.0f ? at_zero : r);
+    const float at_zero = y > 0.0f ? 0.0f : (y == 0.0f ? 1.0f : INFINITY);
+    return x < 1.17549435e-38f ? at_zero : r;
 }
 
 // ---- sl_pow_cr: double, correctly rounded over the sweep in docs/precision.md

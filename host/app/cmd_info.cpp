@@ -61,7 +61,7 @@ std::string table_line(const TableSpec& t) {
 std::string fast_mode_line(const ModelInfo& m) {
     std::ostringstream s;
     if (m.fast_differs)
-        s << "its own faster pow (sl_fast_pow: 250 ulp for results >= 2^-10, docs/precision.md)";
+        s << "its own faster pow (sl_fast_pow: 250 ulp for results >= 2^-10, denormal bases as 0, docs/precision.md)";
     else
         s << "the same program as precise (nothing faster here: docs/precision.md)";
     for (const PrecisionBound& b : m.precision)
