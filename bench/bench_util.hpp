@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <numeric>
 #include <string>
 #include <thread>
 #include <vector>
@@ -51,9 +52,9 @@ inline std::string load_average() {
 // machine's own threads, and a host that shares its cores with other machines shows nowhere else. And the
 // threads at once against one alone is the most any parallel code could gain at that moment (the rasteriser's
 // 2-thread bar is for an idle machine). Seen on this project's 2-core machine at load average 0.3-0.9: 1.23 G/s
-// alone and 0.70 + 0.77 at once (1.19x; single windows of 1 s), while the rasteriser ran 2.3-4x slower than two days before on the same
-// kind of machine. Printed at the start and end of each bench (and by the core_probe program for
-// scripts/speed_report.py). Elsewhere than x86-64 the chain is a plain loop the compiler may schedule
+// alone and 0.70 + 0.77 at once (1.19x; single windows of 1 s), while the rasteriser ran 2.3-4x slower than two
+// days before on the same kind of machine. Printed at the start and end of each bench (and by the core_probe
+// program for scripts/speed_report.py). Elsewhere than x86-64 the chain is a plain loop the compiler may schedule
 // differently: the figures are then relative ones (`cycle_calibrated` false).
 struct CoreProbe {
     double alone = 0.0;             // G additions a second, one thread
@@ -62,11 +63,7 @@ struct CoreProbe {
     int rounds = 0;                 // alone and at once in turn, this many times; the best of each is kept
     bool cycle_calibrated = false;
 
-    double together() const {
-        double sum = 0.0;
-        for (double g : at_once) sum += g;
-        return sum;
-    }
+    double together() const { return std::accumulate(at_once.begin(), at_once.end(), 0.0); }
     // What the threads at once did together, in units of one thread alone.
     double scaling() const { return alone > 0.0 ? together() / alone : 0.0; }
 
@@ -79,11 +76,13 @@ struct CoreProbe {
             std::snprintf(buf, sizeof buf, " %.2f", g);
             out += buf;
         }
-        std::snprintf(buf, sizeof buf, " at once G adds/s (%zu threads at once = %.2fx one alone; best of %d rounds of %.2f s; ",
+        std::snprintf(buf, sizeof buf,
+                      " at once G adds/s (%zu threads at once = %.2fx one alone; best of %d rounds of %.2f s; ",
                       at_once.size(), scaling(), rounds, seconds);
         out += buf;
-        out += cycle_calibrated ? "one dependent add a cycle: an idle core's clock in GHz, less where the host shares it)"
-                                : "relative figures on this CPU)";
+        out += cycle_calibrated
+                   ? "one dependent add a cycle: an idle core's clock in GHz, less where the host shares it)"
+                   : "relative figures on this CPU)";
         return out;
     }
 };
@@ -120,16 +119,15 @@ inline CoreProbe core_probe(unsigned threads = 0, double seconds = 0.05, int rou
     p.cycle_calibrated = true;
 #endif
     p.at_once.assign(threads, 0.0);
-    std::vector<double> once(threads, 0.0);
+    CoreProbe round;   // this round's threads at once
+    round.at_once.assign(threads, 0.0);
     for (int r = 0; r < rounds; ++r) {
         p.alone = std::max(p.alone, add_chain_rate(seconds));
         std::vector<std::thread> pool;
-        for (unsigned t = 0; t < threads; ++t) pool.emplace_back([&once, t, seconds] { once[t] = add_chain_rate(seconds); });
+        for (unsigned t = 0; t < threads; ++t)
+            pool.emplace_back([&round, t, seconds] { round.at_once[t] = add_chain_rate(seconds); });
         for (std::thread& th : pool) th.join();
-        double sum = 0.0, best = 0.0;
-        for (double g : once) sum += g;
-        for (double g : p.at_once) best += g;
-        if (sum > best) p.at_once = once;   // the round whose threads together did most
+        if (round.together() > p.together()) p.at_once = round.at_once;   // the round whose threads did most
     }
     return p;
 }

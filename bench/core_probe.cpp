@@ -3,7 +3,8 @@
 // cannot see a host that shares them with other machines).
 //
 // usage: core_probe [--threads N] [--seconds S] [--rounds R]
-// Prints one line: "core speed probe: <G adds/s alone> alone, <of each thread at once> at once G adds/s (...)". Exit 0; 2 for a bad option.
+// Prints one line: "core speed probe: <G adds/s alone> alone, <of each thread at once> at once G adds/s (...)".
+// Exit 0; 2 for a bad option.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
