@@ -103,6 +103,7 @@ struct Options {
     bool local_study = false;
     bool vec_report = true;
     bool require_vectorised = false;   // exit 1 when a kernel was not vectorised (the tests' regression check)
+    bool two_lights = false;           // a point light beside the directional one (programs of two lights)
     std::size_t local = 0;             // 0: Shader's default
     std::string csv;
     std::string markdown;   // the throughput section of docs/speed.md, written from this run
@@ -300,10 +301,14 @@ Material default_material(const ModelInfo& info) {
 const glm::dvec3 kLdir = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
 const glm::dvec3 kEye(0.5, 1.0, 4.0);
 
-ShadeSetup setup_for(const Material& m, Precision p, std::size_t local) {
+// A point light above and to the left of the fragments, for --two-lights.
+const glm::dvec3 kPointLight(-2.0, 3.0, 2.5);
+
+ShadeSetup setup_for(const Material& m, Precision p, std::size_t local, bool two_lights) {
     ShadeSetup s;
     s.material = m;
     s.lights = {Light{Light::Type::Directional, kLdir, {1, 1, 1}, 1.0, 0.0}};
+    if (two_lights) s.lights.push_back(Light{Light::Type::Point, kPointLight, {1.0, 0.85, 0.7}, 10.0, 0.0});
     s.view = glm::dvec4(kEye, 1.0);
     s.precision = p;
     s.local_size = local;
@@ -473,7 +478,7 @@ void local_size_study(Runtime& rt, Shader& shader, const Options& opt) {
                     ms = 12.0 * double(n) / stream.triad_gbs(opt.repeats, l) * 1e-6;
                 } else {
                     std::vector<float> out;
-                    ms = shade_best_ms(shader, fb, setup_for(default_material(find_model(name)), Precision::Precise, l),
+                    ms = shade_best_ms(shader, fb, setup_for(default_material(find_model(name)), Precision::Precise, l, false),
                                        opt.repeats, out);
                 }
                 std::cout << std::setw(9) << fixed(double(n) / ms * 1e-3, 1) << std::flush;
@@ -508,6 +513,9 @@ int main(int argc, char** argv) {
     app.add_flag("--require-vectorised", opt.require_vectorised,
                  "Exit 1 when PoCL did not vectorise a kernel as asked (the test suite runs --smoke with it, also for "
                  "an AVX2 target: POCL_LLVM_CPU_NAME=haswell POCL_KERNELLIB_NAME=avx2 SHADELAB_VECTOR_WIDTH=8)");
+    app.add_flag("--two-lights", opt.two_lights,
+                 "Shade with a point light beside the directional one: the kernels of two-light programs, whose light "
+                 "loop the vectoriser must widen too (no C++ loop column: the loops have one light)");
     app.add_option("--csv", opt.csv, "Also write the table as CSV");
     app.add_option("--markdown", opt.markdown, "Also write the table as a markdown report");
     try {
@@ -607,7 +615,7 @@ int main(int argc, char** argv) {
                 std::vector<std::vector<float>> outs(opt.modes.size());
                 std::vector<double> best_ms(opt.modes.size(), 1e30);
                 for (std::size_t k = 0; k < opt.modes.size(); ++k) {
-                    setups.push_back(setup_for(m, opt.modes[k], opt.local));
+                    setups.push_back(setup_for(m, opt.modes[k], opt.local, opt.two_lights));
                     const std::string key = info.name + "/" + precision_name(opt.modes[k]);
                     if (opt.vec_report && !vec_of.count(key)) {
                         const std::string remarks = capture_output([&] { outs[k] = shader.shade(fb, setups[k]); });
@@ -634,7 +642,7 @@ int main(int argc, char** argv) {
                     const std::vector<float>& out = outs[k];
                     const double ms = best_ms[k];
                     for (float v : out) finite = finite && std::isfinite(v);
-                    if (!have_loop && cpp_loops::has_loop(info.name)) {
+                    if (!have_loop && !opt.two_lights && cpp_loops::has_loop(info.name)) {   // the loops have one light
                         loop = cpp_loop(m, fb, out, opt.repeats);
                         have_loop = true;
                         if (loop.share_off > 1e-3) loops_agree = false;

@@ -99,15 +99,6 @@ SL_INLINE sl_rgb sl_rgb_mix(sl_rgb a, sl_rgb b, float t) {
 }
 
 
-// ---- keeping LLVM's SLP vectoriser away ----------------------------------------------------------------------
-// Before PoCL builds its work-item loop, LLVM's SLP vectoriser packs two isomorphic, independent scalar
-// computations of one fragment (the same function of NoL and of NoV, the same step at two thresholds) into one
-// <2 x float> computation, and a single such instruction stops the loop vectoriser ("instruction return type
-// cannot be vectorized"): the whole model then runs one fragment at a time. sl_after(x, dep) is x, made to depend
-// on dep, so that a computation started from it cannot be bundled with the one that produced dep (a bundle's
-// members must be independent). x + 0 * dep cannot be folded under IEEE rules (0 * dep is NaN for an infinite or
-// NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign of a zero x).
-SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 
 // ---- non-finite results ------------------------------------------------------------------------------------
 // A non-finite channel (only from invalid input: a NaN normal, a zero light vector) is written as 0, so no image
@@ -181,6 +172,29 @@ SL_INLINE float sl_floor_nonneg(float x) { return x < 8388608.0f ? convert_float
 #endif
 // Silenced once here for every kernel after common.cl in the program (see above for why).
 #pragma clang diagnostic ignored "-Wpass-failed"
+
+// ---- keeping LLVM's SLP vectoriser away, where it matters -------------------------------------------------------
+// Before PoCL builds its work-item loop, LLVM's SLP vectoriser packs two isomorphic, independent scalar
+// computations of one fragment (the same function of NoL and of NoV, the same step at two thresholds) into one
+// <2 x float> computation, and a single such instruction stops the work-item loop vectoriser ("instruction return
+// type cannot be vectorized"): the whole model then runs one fragment at a time. sl_after(x, dep) is x, made to
+// depend on dep, so that a computation started from it cannot be bundled with the one that produced dep (a
+// bundle's members must be independent). x + 0 * dep cannot be folded under IEEE rules (0 * dep is NaN for an
+// infinite or NaN dep, -0 for a negative one), costs one fma, and is x itself for every finite dep (up to the sign
+// of a zero x).
+// That dependence has a price: the models' isomorphic chains (Hapke's terms of i and of e, Oren-Nayar's two
+// angles, one light after another) then run one after the other, and these loops are latency-bound. Where the
+// program's kernels widen the explicit fragment loop above (SL_LANES > 1, not the dispatching kernel), the loop
+// vectoriser runs first and every model vectorises without it (bench_models --require-vectorised, AVX-512 and
+// AVX2 targets): there sl_after is x itself. Alternated in one process (bench_models 1M and 4M, 2026-12-06):
+// hapke_hen, hapke_leg and hapke_2012 1.17-1.24x, oren_nayar_full 1.15-1.25x, oren_nayar_seed003 1.14-1.17x,
+// eon 1.08-1.13x, lunar_lambert and lommel_seeliger 1.04-1.20x; the models without such chains 0.96-1.05x
+// (docs/speed.md, "In order only where it matters").
+#if SL_LANES > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
+SL_INLINE float sl_after(float x, float dep) { (void)dep; return x; }
+#else
+SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
+#endif
 
 // ---- streaming stores: a work-item's outputs written past the cache -------------------------------------------
 // A plain store to a line that is not in the cache first reads the line from memory (write-allocate), so an
