@@ -42,10 +42,12 @@ __kernel void eval_directions(__global const float* restrict N_, __global const 
 }
 
 // ---- Batched evaluation for fitting (host/fit/) ----------------------------------------------------------------
-// Many parameter sets x many samples in one launch: work item (i, s) evaluates the model alone (no lights, no
-// ambient, as eval_directions) at sample i with constant set s. The parameters live in the __constant block,
-// not in the program, so every set shares this one build. Dimension 0 runs over the samples, so the set (and
-// with it every constant load) is the same for a whole work-group and hoisted out of the vectorised loop.
+// Many parameter sets x many samples in one launch: work item (w, s) evaluates the model alone (no lights, no
+// ambient, as eval_directions) at samples w SL_FRAGS_PER_ITEM .. (w + 1) SL_FRAGS_PER_ITEM - 1 with constant set s,
+// in common.cl's fragment loop (as shade_fragments: one sample a work-item was left to PoCL's work-item loop
+// vectoriser, which ran it one sample at a time). The parameters live in the __constant block, not in the
+// program, so every set shares this one build. Dimension 0 runs over the samples, so the set (and with it every
+// constant load) is the same for a whole work-group and hoisted out of the loop.
 //   dirs:  12 planes of `stride` floats: N.x N.y N.z L.x L.y L.z V.x V.y V.z P.x P.y P.z
 //   out:   3 planes (r, g, b) of `stride` floats per set: out[(3 s + c) stride + i]
 //   sets:  consts_per_set ModelConsts per set (the model's own, then its children's: gradient reads mc[1], mc[2])
@@ -54,17 +56,21 @@ __kernel void eval_batch(__global const float* restrict dirs, __global float* re
                          const uint consts_per_set, __constant const ModelConsts* sets,
                          __global const float* restrict tab) {
     (void)tab;
-    const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes dirs[i] a gather
-    const size_t s = get_global_id(1);
+    // size_t, not uint: a 32-bit index that may wrap makes dirs[i] a gather
+    const size_t first = get_global_id(0) * SL_FRAGS_PER_ITEM, s = get_global_id(1);
     const size_t st = stride;
     SL_PRIVATE_CONSTS(mc, sets + s * consts_per_set);   // see common.cl's SL_CONSTS
-    const sl_v3 N = sl_v3_make(dirs[i], dirs[st + i], dirs[2 * st + i]);
-    const sl_v3 L = sl_v3_make(dirs[3 * st + i], dirs[4 * st + i], dirs[5 * st + i]);
-    const sl_v3 V = sl_v3_make(dirs[6 * st + i], dirs[7 * st + i], dirs[8 * st + i]);
-    const sl_v3 P = sl_v3_make(dirs[9 * st + i], dirs[10 * st + i], dirs[11 * st + i]);
-    const sl_rgb r = SL_EVAL_AT(N, L, V, P, mc);
     __global float* o = out + 3 * s * st;
-    o[i] = sl_finite_or_zero(r.r);
-    o[st + i] = sl_finite_or_zero(r.g);
-    o[2 * st + i] = sl_finite_or_zero(r.b);
+    SL_FRAGMENT_LOOP
+    for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k) {
+        const size_t i = first + k;
+        const sl_v3 N = sl_v3_make(dirs[i], dirs[st + i], dirs[2 * st + i]);
+        const sl_v3 L = sl_v3_make(dirs[3 * st + i], dirs[4 * st + i], dirs[5 * st + i]);
+        const sl_v3 V = sl_v3_make(dirs[6 * st + i], dirs[7 * st + i], dirs[8 * st + i]);
+        const sl_v3 P = sl_v3_make(dirs[9 * st + i], dirs[10 * st + i], dirs[11 * st + i]);
+        const sl_rgb r = SL_EVAL_AT(N, L, V, P, mc);
+        o[i] = sl_finite_or_zero(r.r);
+        o[st + i] = sl_finite_or_zero(r.g);
+        o[2 * st + i] = sl_finite_or_zero(r.b);
+    }
 }

@@ -589,11 +589,12 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
     std::vector<float> out(np * d.n * sets);
     if (kernel_ms) *kernel_ms = 0.0;
     try {
-        // The same defines as Shader::shade with one directional light: one program serves both.
-        std::vector<std::string> defines = defines_for(shape, 1, precision);
-        defines.push_back("SL_ALL_DIRECTIONAL=1");
-        cl::Program prog = rt_.build("shade.cl", defines, options_for(precision));
+        // The program Shader::shade builds for one directional light: one program serves both, and eval_batch
+        // runs its fragment loop, frags_per_item samples a work-item (kernels/shade.cl).
+        const ProgramRequest req = shade_program(shape, {Light{}}, precision);
+        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
         cl::Kernel k(prog, "eval_batch");
+        const std::size_t per_item = frags_per_item(info, rt_.vector_width());   // divides kLocalSize (<= 32)
         auto& ctx = rt_.context();
         // the shape's table: every set of a batch shares it (a table is not a fitted parameter)
         cl::Buffer btab = table_buffer(ctx, resolve_material(shape));
@@ -621,7 +622,8 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
             k.setArg(4, bconsts);
             k.setArg(5, btab);
             cl::Event ev;
-            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(d.stride, ns), cl::NDRange(kLocalSize, 1), nullptr, &ev);
+            q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(d.stride / per_item, ns),
+                                   cl::NDRange(kLocalSize / per_item, 1), nullptr, &ev);
             if (d.stride == d.n && np == 3) {   // the layouts agree: straight into `out`
                 q.enqueueReadBuffer(bout, CL_TRUE, 0, 3 * ns * plane_bytes, out.data() + 3 * s0 * d.n);
             } else if (d.stride == d.n) {       // the red plane of each set
