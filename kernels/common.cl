@@ -184,12 +184,11 @@ SL_INLINE float sl_floor_nonneg(float x) { return x < 8388608.0f ? convert_float
 // of a zero x).
 // That dependence has a price: the models' isomorphic chains (Hapke's terms of i and of e, Oren-Nayar's two
 // angles, one light after another) then run one after the other, and these loops are latency-bound. Where the
-// program's kernels widen the explicit fragment loop above (SL_LANES > 1, not the dispatching kernel), the loop
-// vectoriser runs first and every model vectorises without it (bench_models --require-vectorised, AVX-512 and
-// AVX2 targets): there sl_after is x itself. Alternated in one process (bench_models 1M and 4M, 2026-12-06):
-// hapke_hen, hapke_leg and hapke_2012 1.17-1.24x, oren_nayar_full 1.15-1.25x, oren_nayar_seed003 1.14-1.17x,
-// eon 1.08-1.13x, lunar_lambert and lommel_seeliger 1.04-1.20x; the models without such chains 0.96-1.05x
-// (docs/speed.md, "In order only where it matters").
+// program's kernels widen the explicit fragment loop above (SL_LANES > 1, not the dispatching kernel), every
+// model vectorises without it, as measured (bench_models --require-vectorised and its tests, AVX-512 and
+// AVX2 targets, one light and two): there sl_after is x itself. Alternated in one process (bench_models, 1M to
+// 16M, 2026-12-06): the Hapke laws 1.04-1.25x, oren_nayar_full 1.11-1.25x, oren_nayar_seed003 1.19-1.24x, eon
+// 1.10-1.15x, minnaert_b 1.10-1.24x; the median of all rows 1.01x (docs/speed.md, "In order only where it matters").
 #if SL_LANES > 1 && !(defined(SL_DISPATCH) && SL_DISPATCH)
 SL_INLINE float sl_after(float x, float dep) { (void)dep; return x; }
 #else
