@@ -80,7 +80,7 @@ ModelFamily register_cook_torrance_family() {
         {{"*", 1.00e-5, 3e-5, 1.00e-5, 3e-5}, {"m=0.02", 7.82e-4, 2e-3, 7.82e-4, 2e-3}});
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
-    use_two_chains(family, {"cook_torrance", "cook_torrance_exact_fresnel", "cook_torrance_seed004"});
+    use_two_chains(family, {"cook_torrance", "cook_torrance_exact_fresnel", "cook_torrance_seed004", "cook_torrance_ggx"});
     return family;
 }
 
