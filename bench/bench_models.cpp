@@ -478,8 +478,8 @@ void local_size_study(Runtime& rt, Shader& shader, const Options& opt) {
                     ms = 12.0 * double(n) / stream.triad_gbs(opt.repeats, l) * 1e-6;
                 } else {
                     std::vector<float> out;
-                    ms = shade_best_ms(shader, fb, setup_for(default_material(find_model(name)), Precision::Precise, l, false),
-                                       opt.repeats, out);
+                    const ShadeSetup setup = setup_for(default_material(find_model(name)), Precision::Precise, l, false);
+                    ms = shade_best_ms(shader, fb, setup, opt.repeats, out);
                 }
                 std::cout << std::setw(9) << fixed(double(n) / ms * 1e-3, 1) << std::flush;
             }

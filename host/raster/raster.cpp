@@ -1192,10 +1192,18 @@ void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
 // then as slow as on one, or slower (the bunny at 512x512: 7.2 ms on one thread, 9.4 ms on two). Chunks of a
 // fixed size also make the split the same for every thread count. A chunk's cost in the later stages is one
 // bin list a tile (kTileW x kTileH pixels: 2,048 at 4096 x 4096).
-constexpr std::size_t kVertexBlock = 8192, kSetupChunk = 4096;
+// A small mesh is cut finer, into at least kMinPieces pieces (of a multiple of 256): at the fixed sizes spot's
+// 5,856 triangles were two chunks, of 4096 and 1760, and its 2,930 vertices one block, which held two threads'
+// set-up at 1.4x one thread's (bench_e2e, spot 512x512). The size depends on the count alone, so the split is
+// still the same for every thread count.
+constexpr std::size_t kVertexBlock = 8192, kSetupChunk = 4096, kMinPieces = 16;
+std::size_t piece_size(std::size_t count, std::size_t largest) {
+    const std::size_t even = (count + kMinPieces - 1) / kMinPieces;
+    return std::clamp<std::size_t>((even + 255) / 256 * 256, 256, largest);
+}
 
 // 1. Vertices to clip space, and to the screen (used only by triangles that need no clipping, whose
-//    vertices all have w >= z_near > 0); 2. triangle set-up in chunks of kSetupChunk mesh triangles; ids
+//    vertices all have w >= z_near > 0); 2. triangle set-up in chunks of up to kSetupChunk mesh triangles; ids
 //    follow mesh order (the depth tie-break). The arrays are the calling thread's SetupMemory.
 SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     const std::size_t nv = mesh.positions.size();
@@ -1206,8 +1214,10 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     glm::dvec4* const clip = mem.clip.data();
     SetupVertex* const vertices = mem.vertices.data();
     ScreenVertex* const sv = mem.sv.data();
-    run_pieces(threads, (nv + kVertexBlock - 1) / kVertexBlock, [&](std::size_t block) {
-        for (std::size_t v = block * kVertexBlock, e = std::min(nv, v + kVertexBlock); v < e; ++v) {
+    const std::size_t block_size = piece_size(nv, kVertexBlock);
+    const std::size_t chunk_size = piece_size(mesh.triangles.size(), kSetupChunk);
+    run_pieces(threads, (nv + block_size - 1) / block_size, [&](std::size_t block) {
+        for (std::size_t v = block * block_size, e = std::min(nv, v + block_size); v < e; ++v) {
             clip[v] = to_clip(f.view_projection, mesh.positions[v]);
             const glm::dvec2 screen = viewport_transform(clip[v], f.width, f.height);
             vertices[v] = SetupVertex{screen, ndc_depth(clip[v]), outcode(clip[v], f.guard)};
@@ -1216,14 +1226,14 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     });
     SetupResult s{sv, mem.chunks, {}};
     const std::size_t nt = mesh.triangles.size();
-    s.chunks.resize(std::max<std::size_t>(1, (nt + kSetupChunk - 1) / kSetupChunk));
+    s.chunks.resize(std::max<std::size_t>(1, (nt + chunk_size - 1) / chunk_size));
     run_pieces(threads, s.chunks.size(), [&](std::size_t i) {
         Chunk& chunk = s.chunks[i];
         chunk.raster.clear();
         chunk.shade.clear();
         chunk.clipped.clear();
         chunk.stats = RasterStats{};
-        const std::size_t b = std::min(nt, i * kSetupChunk), e = std::min(nt, b + kSetupChunk);
+        const std::size_t b = std::min(nt, i * chunk_size), e = std::min(nt, b + chunk_size);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
         for (std::size_t t = b; t < e; ++t) {
