@@ -16,7 +16,7 @@
 #undef SL_SHADE_KERNEL
 
 // The model alone at triple i of xyz-interleaved N, L, V, P (unmasked: tests/test_precision.cpp counts its NaN/Inf).
-SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global const float* L_,
+SL_INLINE sl_rgb eval_direction_at(size_t i, __global const float* N_, __global const float* L_,
                                    __global const float* V_, __global const float* P_,
                                    const ModelConsts* mc, __global const float* restrict tab) {
     (void)tab;
@@ -27,18 +27,26 @@ SL_INLINE sl_rgb eval_direction_at(uint i, __global const float* N_, __global co
     return SL_EVAL_AT(N, L, V, P, mc);
 }
 
-// The model alone for given unit directions (no lights, no attenuation): what the tests sweep.
+// The model alone for given unit directions (no lights, no attenuation): what the tests sweep, and the library's
+// eval. SL_FRAGS_PER_ITEM triples a work-item in common.cl's fragment loop (one a work-item was left to PoCL's
+// work-item loop vectoriser, whose code for it was scalar). A work-item whose triples would run past `n` (>=
+// SL_FRAGS_PER_ITEM: the host pads fewer) evaluates the last SL_FRAGS_PER_ITEM of them instead, the same values to
+// the same places, as shade_fragments does: no load or store is under a condition.
 __kernel void eval_directions(__global const float* restrict N_, __global const float* restrict L_,
                               __global const float* restrict V_, __global const float* restrict P_,
                               __global float* restrict out, const uint n, __constant const ModelConsts* mc_arg,
                               __global const float* restrict tab) {
     SL_PRIVATE_CONSTS(mc, mc_arg);   // see common.cl's SL_CONSTS
-    const size_t i = get_global_id(0);   // size_t, not uint: a 32-bit index that may wrap makes px[i] a gather
-    if (i >= n) return;
-    const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);
-    out[3 * i] = sl_finite_or_zero(r.r);
-    out[3 * i + 1] = sl_finite_or_zero(r.g);
-    out[3 * i + 2] = sl_finite_or_zero(r.b);
+    // size_t, not uint: a 32-bit index that may wrap makes px[i] a gather
+    const size_t first = min(get_global_id(0) * SL_FRAGS_PER_ITEM, (size_t)n - SL_FRAGS_PER_ITEM);
+    SL_FRAGMENT_LOOP
+    for (uint k = 0; k < SL_FRAGS_PER_ITEM; ++k) {
+        const size_t i = first + k;
+        const sl_rgb r = eval_direction_at(i, N_, L_, V_, P_, mc, tab);
+        out[3 * i] = sl_finite_or_zero(r.r);
+        out[3 * i + 1] = sl_finite_or_zero(r.g);
+        out[3 * i + 2] = sl_finite_or_zero(r.b);
+    }
 }
 
 // ---- Batched evaluation for fitting (host/fit/) ----------------------------------------------------------------

@@ -524,14 +524,27 @@ std::vector<float> Shader::eval_directions(const Material& material, const std::
         throw Error("eval_directions: N, L, V, P must all hold 3n floats");
     if (n == 0) return {};
     const auto consts = pack_material(mat);
-    std::vector<float> out(3 * n);
+    // kernels/shade.cl: per_item triples a work-item, and at least per_item triples in the buffers (fewer are
+    // padded with copies of the last, whose values are not read back)
+    const std::size_t per_item = frags_per_item(find_model(mat.model), rt_.vector_width());
+    const std::size_t nb = std::max(n, per_item);
+    std::vector<float> out(3 * nb);
     try {
-        cl::Program prog = rt_.build("shade.cl", defines_for(mat, 1, precision), options_for(precision));
+        // the program Shader::shade builds for one directional light (its lanes and chains)
+        const ProgramRequest req = shade_program(mat, {Light{}}, precision);
+        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
         cl::Kernel k(prog, "eval_directions");
         auto& ctx = rt_.context();
-        const std::size_t bytes = 3 * n * sizeof(float);
+        const std::size_t bytes = 3 * nb * sizeof(float);
         auto ro = [&](const std::vector<float>& v) {
-            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(v.data()));
+            std::vector<float> padded;
+            const float* src = v.data();
+            if (nb > n) {
+                padded.assign(v.begin(), v.end());
+                for (std::size_t i = n; i < nb; ++i) padded.insert(padded.end(), v.end() - 3, v.end());
+                src = padded.data();
+            }
+            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(src));
         };
         cl::Buffer bn = ro(N), bl = ro(L), bv = ro(V), bp = ro(P);
         cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, bytes);
@@ -539,16 +552,18 @@ std::vector<float> Shader::eval_directions(const Material& material, const std::
                            const_cast<ModelConsts*>(consts.data()));
         k.setArg(0, bn); k.setArg(1, bl); k.setArg(2, bv); k.setArg(3, bp);
         k.setArg(4, bout);
-        k.setArg(5, cl_uint(n));
+        k.setArg(5, cl_uint(nb));
         k.setArg(6, bconsts);
         cl::Buffer btab = table_buffer(ctx, mat);
         k.setArg(7, btab);
-        rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up(n, kLocalSize)),
-                                         cl::NDRange(kLocalSize));
+        const std::size_t group = kLocalSize / per_item;   // work-items a group: kLocalSize triples
+        rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up((nb + per_item - 1) / per_item, group)),
+                                         cl::NDRange(group));
         rt_.queue().enqueueReadBuffer(bout, CL_TRUE, 0, bytes, out.data());
     } catch (const cl::Error& e) {
         rethrow_cl(e, "evaluating model '" + mat.model + "' on " + std::to_string(n) + " direction triples");
     }
+    out.resize(3 * n);
     return out;
 }
 
