@@ -117,15 +117,14 @@ void Engine::shade(const Material& material, const float* N, const float* L, con
     guarded([&] {
         if (n == 0) return 0;
         if (!N || !L || !V || !out) throw shadelab::Error("shade: N, L, V and out must not be null");
-        const std::vector<float> n3(N, N + 3 * n), l3(L, L + 3 * n), v3(V, V + 3 * n), p3(3 * n, 0.0f);
         for (std::size_t i = 0; i < 3 * n; ++i)
-            if (!std::isfinite(n3[i]) || !std::isfinite(l3[i]) || !std::isfinite(v3[i]))
+            if (!std::isfinite(N[i]) || !std::isfinite(L[i]) || !std::isfinite(V[i]))
                 throw shadelab::Error("shade: direction triple " + std::to_string(i / 3) +
                                       " holds NaN or Inf: give finite unit vectors");
         Shader shader(impl_->rt);
-        const auto rgb = shader.eval_directions(to_internal(material), n3, l3, v3, p3,
-                                                fast ? Precision::Fast : Precision::Precise);
-        std::copy(rgb.begin(), rgb.end(), out);
+        // the caller's arrays in place, the results straight into `out`; positions are zeros
+        shader.eval_directions_into(to_internal(material), N, L, V, nullptr, n, out,
+                                    fast ? Precision::Fast : Precision::Precise);
         return 0;
     });
 }

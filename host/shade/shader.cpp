@@ -518,53 +518,70 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
 std::vector<float> Shader::eval_directions(const Material& material, const std::vector<float>& N,
                                            const std::vector<float>& L, const std::vector<float>& V,
                                            const std::vector<float>& P, Precision precision) {
-    const Material mat = resolve_material(material);
     const std::size_t n = N.size() / 3;
     if (N.size() != 3 * n || L.size() != 3 * n || V.size() != 3 * n || P.size() != 3 * n)
         throw Error("eval_directions: N, L, V, P must all hold 3n floats");
-    if (n == 0) return {};
-    const auto consts = pack_material(mat);
-    // kernels/shade.cl: per_item triples a work-item, and at least per_item triples in the buffers (fewer are
-    // padded with copies of the last, whose values are not read back)
+    std::vector<float> out(3 * n);
+    eval_directions_into(material, N.data(), L.data(), V.data(), P.data(), n, out.data(), precision);
+    return out;
+}
+
+void Shader::eval_directions_into(const Material& material, const float* N, const float* L, const float* V,
+                                  const float* P, std::size_t n, float* out, Precision precision) {
+    if (n == 0) return;
+    const Material mat = resolve_material(material);
+    // kernels/shade.cl: per_item triples a work-item, and at least per_item triples in the buffers: fewer are
+    // copied into arrays of per_item triples (the last one repeated, its values not read back)
     const std::size_t per_item = frags_per_item(find_model(mat.model), rt_.vector_width());
-    const std::size_t nb = std::max(n, per_item);
-    std::vector<float> out(3 * nb);
+    if (n < per_item) {
+        std::vector<float> in[4], padded_out(3 * per_item);
+        const float* src[4] = {N, L, V, P};
+        for (int v = 0; v < 4; ++v) {
+            if (!src[v]) continue;
+            in[v].assign(src[v], src[v] + 3 * n);
+            for (std::size_t i = n; i < per_item; ++i) in[v].insert(in[v].end(), src[v] + 3 * (n - 1), src[v] + 3 * n);
+        }
+        eval_directions_into(material, in[0].data(), in[1].data(), in[2].data(), P ? in[3].data() : nullptr,
+                             per_item, padded_out.data(), precision);
+        std::copy_n(padded_out.begin(), 3 * n, out);
+        return;
+    }
+    const auto consts = pack_material(mat);
     try {
         // the program Shader::shade builds for one directional light (its lanes and chains)
         const ProgramRequest req = shade_program(mat, {Light{}}, precision);
         cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
         cl::Kernel k(prog, "eval_directions");
         auto& ctx = rt_.context();
-        const std::size_t bytes = 3 * nb * sizeof(float);
-        auto ro = [&](const std::vector<float>& v) {
-            std::vector<float> padded;
-            const float* src = v.data();
-            if (nb > n) {
-                padded.assign(v.begin(), v.end());
-                for (std::size_t i = n; i < nb; ++i) padded.insert(padded.end(), v.end() - 3, v.end());
-                src = padded.data();
-            }
-            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes, const_cast<float*>(src));
+        auto& q = rt_.queue();
+        const std::size_t bytes = 3 * n * sizeof(float);
+        // the caller's arrays in place (in_place above: no copy); no P is zeros, filled on the device
+        const auto ro = [&](const float* v) {
+            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<float*>(v));
         };
-        cl::Buffer bn = ro(N), bl = ro(L), bv = ro(V), bp = ro(P);
-        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY, bytes);
+        cl::Buffer bn = ro(N), bl = ro(L), bv = ro(V);
+        cl::Buffer bp = P ? ro(P) : cl::Buffer(ctx, CL_MEM_READ_ONLY, bytes);
+        if (!P) q.enqueueFillBuffer(bp, 0.0f, 0, bytes);
+        cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, bytes, out);
         cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
                            const_cast<ModelConsts*>(consts.data()));
         k.setArg(0, bn); k.setArg(1, bl); k.setArg(2, bv); k.setArg(3, bp);
         k.setArg(4, bout);
-        k.setArg(5, cl_uint(nb));
+        k.setArg(5, cl_uint(n));
         k.setArg(6, bconsts);
         cl::Buffer btab = table_buffer(ctx, mat);
         k.setArg(7, btab);
         const std::size_t group = kLocalSize / per_item;   // work-items a group: kLocalSize triples
-        rt_.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up((nb + per_item - 1) / per_item, group)),
-                                         cl::NDRange(group));
-        rt_.queue().enqueueReadBuffer(bout, CL_TRUE, 0, bytes, out.data());
+        q.enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(round_up((n + per_item - 1) / per_item, group)),
+                               cl::NDRange(group));
+        ReadMap map{&bout, out, 3 * n, nullptr};   // the results at `out` (on a CPU device, out itself)
+        enqueue_read_map(q, map);
+        q.finish();
+        finish_read_map(q, map);
+        q.finish();
     } catch (const cl::Error& e) {
         rethrow_cl(e, "evaluating model '" + mat.model + "' on " + std::to_string(n) + " direction triples");
     }
-    out.resize(3 * n);
-    return out;
 }
 
 Shader::DeviceSamples Shader::upload_samples(const std::vector<float>& N, const std::vector<float>& L,

@@ -106,6 +106,10 @@ public:
     std::vector<float> eval_directions(const Material& material, const std::vector<float>& N,
                                        const std::vector<float>& L, const std::vector<float>& V,
                                        const std::vector<float>& P, Precision precision = Precision::Precise);
+    // The same from the caller's arrays (3n floats each, read in place: no copy) into `out` (3n floats); P may be
+    // null (zeros). The library's and Python's shade use it.
+    void eval_directions_into(const Material& material, const float* N, const float* L, const float* V,
+                              const float* P, std::size_t n, float* out, Precision precision = Precision::Precise);
 
     // Fitting (host/fit/): samples uploaded once, then the model alone (as eval_directions) at every sample for
     // many constant sets per launch (kernels/shade.cl, eval_batch). N, L, V, P are xyz-interleaved, 3n floats.
