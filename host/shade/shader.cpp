@@ -88,11 +88,10 @@ double ms_between(const cl::Event& e) {
     return double(t1 - t0) * 1e-6;
 }
 
-// A read-only buffer over the first `count` floats of v, in place: PoCL's CPU device reads host memory given
-// with CL_MEM_USE_HOST_PTR directly (whatever its alignment), so no copy is made. The kernel never writes it.
-cl::Buffer in_place(cl::Context& ctx, const std::vector<float>& v, std::size_t first, std::size_t count) {
-    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, count * sizeof(float),
-                      const_cast<float*>(v.data() + first));
+// A read-only buffer over `count` floats at p, in place: PoCL's CPU device reads host memory given with
+// CL_MEM_USE_HOST_PTR directly (whatever its alignment), so no copy is made. The kernel never writes it.
+cl::Buffer in_place(cl::Context& ctx, const float* p, std::size_t count) {
+    return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, count * sizeof(float), const_cast<float*>(p));
 }
 
 // A read-only buffer of `padded` floats: v's first `head` floats and its floats from `from` on (together fewer
@@ -311,7 +310,7 @@ std::array<const std::vector<float>*, 6> planes_of(const FragmentBuffer& fb) {
 // The body's inputs: `body` fragments of each plane from `first` on, in place (zero-copy).
 LaunchBuffers body_planes(cl::Context& ctx, const FragmentBuffer& fb, std::size_t first, std::size_t body) {
     LaunchBuffers b;
-    for (int c = 0; c < 6; ++c) b.in[c] = in_place(ctx, *planes_of(fb)[std::size_t(c)], first, body);
+    for (int c = 0; c < 6; ++c) b.in[c] = in_place(ctx, planes_of(fb)[std::size_t(c)]->data() + first, body);
     return b;
 }
 
@@ -515,6 +514,13 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     }
 }
 
+// The program Shader::shade builds for `mat` and one directional light (its lanes and chains): eval_directions
+// and eval_batch run from it, so one build serves the three kernels.
+cl::Program Shader::one_light_program(const Material& mat, Precision precision) {
+    const ProgramRequest req = shade_program(mat, {Light{}}, precision);
+    return rt_.build(req.main_file, req.defines, req.extra_options);
+}
+
 std::vector<float> Shader::eval_directions(const Material& material, const std::vector<float>& N,
                                            const std::vector<float>& L, const std::vector<float>& V,
                                            const std::vector<float>& P, Precision precision) {
@@ -548,19 +554,13 @@ void Shader::eval_directions_into(const Material& material, const float* N, cons
     }
     const auto consts = pack_material(mat);
     try {
-        // the program Shader::shade builds for one directional light (its lanes and chains)
-        const ProgramRequest req = shade_program(mat, {Light{}}, precision);
-        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
-        cl::Kernel k(prog, "eval_directions");
+        cl::Kernel k(one_light_program(mat, precision), "eval_directions");
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
         const std::size_t bytes = 3 * n * sizeof(float);
-        // the caller's arrays in place (in_place above: no copy); no P is zeros, filled on the device
-        const auto ro = [&](const float* v) {
-            return cl::Buffer(ctx, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, bytes, const_cast<float*>(v));
-        };
-        cl::Buffer bn = ro(N), bl = ro(L), bv = ro(V);
-        cl::Buffer bp = P ? ro(P) : cl::Buffer(ctx, CL_MEM_READ_ONLY, bytes);
+        // the caller's arrays in place (no copy); no P is zeros, filled on the device
+        cl::Buffer bn = in_place(ctx, N, 3 * n), bl = in_place(ctx, L, 3 * n), bv = in_place(ctx, V, 3 * n);
+        cl::Buffer bp = P ? in_place(ctx, P, 3 * n) : cl::Buffer(ctx, CL_MEM_READ_ONLY, bytes);
         if (!P) q.enqueueFillBuffer(bp, 0.0f, 0, bytes);
         cl::Buffer bout(ctx, CL_MEM_WRITE_ONLY | CL_MEM_USE_HOST_PTR, bytes, out);
         cl::Buffer bconsts(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, consts.size() * sizeof(ModelConsts),
@@ -621,11 +621,8 @@ std::vector<float> Shader::eval_batch(const Material& shape, const DeviceSamples
     std::vector<float> out(np * d.n * sets);
     if (kernel_ms) *kernel_ms = 0.0;
     try {
-        // The program Shader::shade builds for one directional light: one program serves both, and eval_batch
-        // runs its fragment loop, frags_per_item samples a work-item (kernels/shade.cl).
-        const ProgramRequest req = shade_program(shape, {Light{}}, precision);
-        cl::Program prog = rt_.build(req.main_file, req.defines, req.extra_options);
-        cl::Kernel k(prog, "eval_batch");
+        // eval_batch runs its fragment loop, frags_per_item samples a work-item (kernels/shade.cl)
+        cl::Kernel k(one_light_program(shape, precision), "eval_batch");
         const std::size_t per_item = frags_per_item(info, rt_.vector_width());   // divides kLocalSize (<= 32)
         auto& ctx = rt_.context();
         // the shape's table: every set of a batch shares it (a table is not a fitted parameter)

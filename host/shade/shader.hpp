@@ -145,6 +145,7 @@ private:
     };
     std::map<std::string, SharedKernel> many_;   // by the single-model program it stands for (request_key)
     cl::Kernel shade_kernel(const ProgramRequest& single);
+    cl::Program one_light_program(const Material& mat, Precision precision);
     cl::Buffer batch_out_;              // eval_batch's output, kept between calls (no fresh pages per launch)
     std::size_t batch_out_bytes_ = 0;
 };
