@@ -526,11 +526,17 @@ inline std::uint32_t narrow_row_mask(std::int64_t e0, std::int64_t e1, std::int6
     return bits;
 }
 
+// The narrow row's two steps in AVX-512 or AVX2, each a fixed count of vector instructions instead of a loop of
+// n iterations (the loops' exits, at a different n for every triangle, were mispredicted: on spot.obj at 512 x
+// 512 the two loops took about a third of rasterisation), and every row's depth test in such spans of 16 pixels.
+// The same exact integer edge tests and the same double depth, operation for operation (no fused multiply-adds:
+// -ffp-contract=off), so the same pixels and depths.
+#if defined(__AVX512F__) || defined(__AVX2__)
+#define SHADELAB_RASTER_SPANS 1
+#else
+#define SHADELAB_RASTER_SPANS 0
+#endif
 #ifdef __AVX512F__
-// The narrow row's two steps in AVX-512, each a fixed count of vector instructions instead of a loop of n
-// iterations (the loops' exits, at a different n for every triangle, were mispredicted: on spot.obj at 512 x 512
-// the two loops took about a third of rasterisation). The same exact integer edge tests and the same double
-// depth, operation for operation (no fused multiply-adds: -ffp-contract=off), so the same pixels and depths.
 
 // Lanes k = 0 .. 7 of the edge function e + k step along a row: e plus the steps of k's bits (exact integers,
 // as the scalar loop's repeated additions).
@@ -585,6 +591,64 @@ inline std::int32_t depth_span_narrow(double* d, std::int32_t* o, int tile_x0, i
     _mm512_mask_storeu_epi32(o + xs, __mmask16(take_lo | take_hi << 8), _mm512_set1_epi32(tid));
     return std::int32_t(__builtin_popcount(fresh));
 }
+#elif defined(__AVX2__)
+// The same in AVX2: four 64-bit lanes a vector, masks as vectors (a masked load or store leaves its other lanes
+// alone, and does not fault on them).
+static_assert(kSpanMinWidth <= 12, "narrow_row_mask_avx2 tests 12 pixels");
+
+// Bit k set where lane k of v is >= 0 (its sign bit clear), for the four 64-bit lanes of v.
+inline std::uint32_t non_negative_bits(__m256i v) {
+    return ~std::uint32_t(_mm256_movemask_pd(_mm256_castsi256_pd(v))) & 0xFu;
+}
+
+// narrow_row_mask for 12 pixels at once, the bits past n cleared.
+inline std::uint32_t narrow_row_mask_avx2(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
+                                          std::int64_t step1, std::int64_t step2, int n) {
+    // lanes k = 0 .. 3 of e + k step (exact integers, as the scalar loop's repeated additions), then + 4 step
+    auto lanes = [](std::int64_t e, std::int64_t step) {
+        return _mm256_add_epi64(_mm256_set1_epi64x(e), _mm256_setr_epi64x(0, step, 2 * step, 3 * step));
+    };
+    const __m256i f0 = _mm256_set1_epi64x(4 * step0), f1 = _mm256_set1_epi64x(4 * step1),
+                  f2 = _mm256_set1_epi64x(4 * step2);
+    __m256i a0 = lanes(e0, step0), a1 = lanes(e1, step1), a2 = lanes(e2, step2);
+    std::uint32_t bits = 0;
+    for (int part = 0; part < 3; ++part) {   // a fixed count: unrolled
+        bits |= non_negative_bits(_mm256_or_si256(_mm256_or_si256(a0, a1), a2)) << (4 * part);
+        a0 = _mm256_add_epi64(a0, f0);
+        a1 = _mm256_add_epi64(a1, f1);
+        a2 = _mm256_add_epi64(a2, f2);
+    }
+    return bits & ((1u << n) - 1u);
+}
+
+// depth_span for a span of at most 16 pixels [xs, xe] in masked vectors.
+inline std::int32_t depth_span_narrow(double* d, std::int32_t* o, int tile_x0, int xs, int xe, double zy,
+                                      double dzdx, double x0, std::int32_t tid) {
+    const int count = xe - xs + 1;
+    double* const dp = d + (xs - tile_x0);
+    const __m256d half = _mm256_set1_pd(0.5), vx0 = _mm256_set1_pd(x0), vdzdx = _mm256_set1_pd(dzdx),
+                  vzy = _mm256_set1_pd(zy), one = _mm256_set1_pd(1.0),
+                  inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+    const __m256i lane = _mm256_setr_epi64x(0, 1, 2, 3);
+    std::uint32_t take = 0, fresh = 0;
+    for (int part = 0; part < 4; ++part) {   // a fixed count: unrolled
+        const __m256i in = _mm256_cmpgt_epi64(_mm256_set1_epi64x(count - 4 * part), lane);
+        const __m256d x = _mm256_add_pd(_mm256_set1_pd(double(xs + 4 * part)), _mm256_setr_pd(0, 1, 2, 3));
+        const __m256d z = _mm256_add_pd(vzy, _mm256_mul_pd(vdzdx, _mm256_sub_pd(_mm256_add_pd(x, half), vx0)));
+        const __m256d dd = _mm256_maskload_pd(dp + 4 * part, in);
+        const __m256d t = _mm256_and_pd(_mm256_and_pd(_mm256_castsi256_pd(in), _mm256_cmp_pd(z, one, _CMP_LE_OQ)),
+                                        _mm256_cmp_pd(z, dd, _CMP_LT_OQ));
+        _mm256_maskstore_pd(dp + 4 * part, _mm256_castpd_si256(t), z);
+        take |= std::uint32_t(_mm256_movemask_pd(t)) << (4 * part);
+        fresh |= std::uint32_t(_mm256_movemask_pd(_mm256_and_pd(t, _mm256_cmp_pd(dd, inf, _CMP_EQ_OQ)))) << (4 * part);
+    }
+    // the owners: lane k's sign bit is bit k of `take`
+    const __m256i shifts = _mm256_setr_epi32(31, 30, 29, 28, 27, 26, 25, 24);
+    const __m256i id = _mm256_set1_epi32(tid);
+    _mm256_maskstore_epi32(o + xs, _mm256_sllv_epi32(_mm256_set1_epi32(int(take)), shifts), id);
+    _mm256_maskstore_epi32(o + xs + 8, _mm256_sllv_epi32(_mm256_set1_epi32(int(take >> 8)), shifts), id);
+    return std::int32_t(__builtin_popcount(fresh));
+}
 #endif
 
 // Draws triangle `t` (set-up id `tid`) into the tile of `buf`.
@@ -628,8 +692,12 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
         if (n < kSpanMinWidth) {
             // Each pixel's edge test, as one bit; the covered pixels are the bits' one interval (see
             // narrow_row_mask), drawn as one span.
+#if SHADELAB_RASTER_SPANS
 #ifdef __AVX512F__
             const std::uint32_t bits = narrow_row_mask_avx512(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
+#else
+            const std::uint32_t bits = narrow_row_mask_avx2(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
+#endif
             if (bits == 0) continue;
             const int xs = min_x + __builtin_ctz(bits), xe = min_x + 31 - __builtin_clz(bits);
             span.covered += depth_span_narrow(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
@@ -650,7 +718,7 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
             edge_span(row_e2, step2, n, first, last);
             if (first > last) continue;
             const int xs = min_x + int(first), xe = min_x + int(last);
-#ifdef __AVX512F__
+#if SHADELAB_RASTER_SPANS
             for (int x = xs; x <= xe; x += 16)
                 span.covered += depth_span_narrow(d, o, buf.x0, x, std::min(x + 15, xe), zy, dzdx, x0, tid);
 #else
