@@ -550,8 +550,8 @@ inline __m512i edge_lanes(std::int64_t e, std::int64_t step) {
 }
 
 // narrow_row_mask for 16 pixels at once, the bits past n cleared.
-inline std::uint32_t narrow_row_mask_avx512(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
-                                            std::int64_t step1, std::int64_t step2, int n) {
+inline std::uint32_t narrow_row_bits(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
+                                     std::int64_t step1, std::int64_t step2, int n) {
     const __m512i a0 = edge_lanes(e0, step0), a1 = edge_lanes(e1, step1), a2 = edge_lanes(e2, step2);
     const __m512i b0 = _mm512_add_epi64(a0, _mm512_set1_epi64(8 * step0)),
                   b1 = _mm512_add_epi64(a1, _mm512_set1_epi64(8 * step1)),
@@ -594,7 +594,7 @@ inline std::int32_t depth_span_narrow(double* d, std::int32_t* o, int tile_x0, i
 #elif defined(__AVX2__)
 // The same in AVX2: four 64-bit lanes a vector, masks as vectors (a masked load or store leaves its other lanes
 // alone, and does not fault on them).
-static_assert(kSpanMinWidth <= 12, "narrow_row_mask_avx2 tests 12 pixels");
+static_assert(kSpanMinWidth <= 12, "the AVX2 narrow_row_bits tests 12 pixels");
 
 // Bit k set where lane k of v is >= 0 (its sign bit clear), for the four 64-bit lanes of v.
 inline std::uint32_t non_negative_bits(__m256i v) {
@@ -602,8 +602,8 @@ inline std::uint32_t non_negative_bits(__m256i v) {
 }
 
 // narrow_row_mask for 12 pixels at once, the bits past n cleared.
-inline std::uint32_t narrow_row_mask_avx2(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
-                                          std::int64_t step1, std::int64_t step2, int n) {
+inline std::uint32_t narrow_row_bits(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
+                                     std::int64_t step1, std::int64_t step2, int n) {
     // lanes k = 0 .. 3 of e + k step (exact integers, as the scalar loop's repeated additions), then + 4 step
     auto lanes = [](std::int64_t e, std::int64_t step) {
         return _mm256_add_epi64(_mm256_set1_epi64x(e), _mm256_setr_epi64x(0, step, 2 * step, 3 * step));
@@ -651,6 +651,33 @@ inline std::int32_t depth_span_narrow(double* d, std::int32_t* o, int tile_x0, i
 }
 #endif
 
+// What draw_triangle calls, in the form this build has: a narrow row's edge bits, the depth test of a narrow
+// row's covered span [xs, xe] (at most 16 pixels) and that of any row's (blocks of 16 pixels, or the loop).
+#if SHADELAB_RASTER_SPANS
+inline std::int32_t depth_span_row(double* d, std::int32_t* o, int tile_x0, int xs, int xe, double zy, double dzdx,
+                                   double x0, std::int32_t tid) {
+    std::int32_t newly = 0;
+    for (int x = xs; x <= xe; x += 16)
+        newly += depth_span_narrow(d, o, tile_x0, x, std::min(x + 15, xe), zy, dzdx, x0, tid);
+    return newly;
+}
+#else
+inline std::uint32_t narrow_row_bits(std::int64_t e0, std::int64_t e1, std::int64_t e2, std::int64_t step0,
+                                     std::int64_t step1, std::int64_t step2, int n) {
+    return narrow_row_mask(e0, e1, e2, step0, step1, step2, n);
+}
+inline std::int32_t depth_span_narrow(double* d, std::int32_t* o, int tile_x0, int xs, int xe, double zy,
+                                      double dzdx, double x0, std::int32_t tid) {
+    // One pixel (most rows of a triangle smaller than a few pixels) takes the loop's one-pass form.
+    return xs == xe ? depth_span(d, o, tile_x0, xs, xs, zy, dzdx, x0, tid)
+                    : depth_span(d, o, tile_x0, xs, xe, zy, dzdx, x0, tid);
+}
+inline std::int32_t depth_span_row(double* d, std::int32_t* o, int tile_x0, int xs, int xe, double zy, double dzdx,
+                                   double x0, std::int32_t tid) {
+    return depth_span(d, o, tile_x0, xs, xe, zy, dzdx, x0, tid);
+}
+#endif
+
 // Draws triangle `t` (set-up id `tid`) into the tile of `buf`.
 // Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in sub-pixels, is
 // E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per pixel in x. A pixel is inside
@@ -692,23 +719,10 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
         if (n < kSpanMinWidth) {
             // Each pixel's edge test, as one bit; the covered pixels are the bits' one interval (see
             // narrow_row_mask), drawn as one span.
-#if SHADELAB_RASTER_SPANS
-#ifdef __AVX512F__
-            const std::uint32_t bits = narrow_row_mask_avx512(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
-#else
-            const std::uint32_t bits = narrow_row_mask_avx2(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
-#endif
+            const std::uint32_t bits = narrow_row_bits(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
             if (bits == 0) continue;
             const int xs = min_x + __builtin_ctz(bits), xe = min_x + 31 - __builtin_clz(bits);
             span.covered += depth_span_narrow(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
-#else
-            const std::uint32_t bits = narrow_row_mask(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
-            if (bits == 0) continue;
-            const int xs = min_x + __builtin_ctz(bits), xe = min_x + 31 - __builtin_clz(bits);
-            // One pixel (most rows of a triangle smaller than a few pixels) takes the loop's one-pass form.
-            span.covered += xs == xe ? depth_span(d, o, buf.x0, xs, xs, zy, dzdx, x0, tid)
-                                     : depth_span(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
-#endif
             span.lo = std::min(span.lo, xs);
             span.hi = std::max(span.hi, xe + 1);
         } else {
@@ -718,12 +732,7 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
             edge_span(row_e2, step2, n, first, last);
             if (first > last) continue;
             const int xs = min_x + int(first), xe = min_x + int(last);
-#if SHADELAB_RASTER_SPANS
-            for (int x = xs; x <= xe; x += 16)
-                span.covered += depth_span_narrow(d, o, buf.x0, x, std::min(x + 15, xe), zy, dzdx, x0, tid);
-#else
-            span.covered += depth_span(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
-#endif
+            span.covered += depth_span_row(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
             span.lo = std::min(span.lo, xs);
             span.hi = std::max(span.hi, xe + 1);
         }
