@@ -6,11 +6,14 @@
 //                       rejection is all three vertices beyond one plane;
 //   clip_polygon        Sutherland-Hodgman against the near plane (and, rarely, a far-off guard band);
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
-//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box;
+//   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box; a box of
+//                       at most 2 x 2 pixels has its centres tested (centres_covered): none, and the triangle is
+//                       dropped; setup_lanes does the same for eight triangles at a time (AVX-512 vectors);
 //   bin_chunk           each triangle listed in the 128 x 64 pixel tiles its bounding box touches;
 //   raster_tile         per tile: edge functions at pixel centres + depth test (depth_span, a loop without
 //                       branches that vectorises) into the visibility buffer (triangle id per pixel), with
-//                       the tile's depth and owner buffers in cache;
+//                       the tile's depth and owner buffers in cache; draw_small takes a 2 x 2 box's centres
+//                       from set-up instead of edge functions;
 //   emit_rows/emit_run  perspective-correct interpolation once per covered pixel, for the triangle that won
 //                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time in
 //                       blocks of kLanes pixels, each block one AVX computation stored straight into the
@@ -285,6 +288,7 @@ struct RasterTri {
     double z0, dzdx, dzdy;       // NDC depth plane: z = z0 + dzdx (px - x0) + dzdy (py - y0), in pixels
     std::int16_t min_x, max_x, min_y, max_y;   // pixels whose centre may be covered, clamped to the image
     std::uint8_t top_left;       // bit i set: the edge opposite vertex i takes pixel centres lying on it
+    std::uint8_t small_cover;    // 0, or for a box of at most 2 x 2 pixels kSmall | the centres it covers (centres_covered)
 };
 
 // What emission needs to find a winning triangle's corners again.
@@ -321,15 +325,18 @@ struct Frame {
 
 enum class Setup { Kept, Culled, Empty };
 
-// A triangle whose box is at most 2 x 2 pixels has its pixel centres tested in set-up and is dropped there if it
-// covers none: at 512 x 512 most of the dragon's triangles are smaller than a pixel, and 38% of those set up (13%
-// of the bunny's) covered no centre, yet each was stored, binned and drawn.
-//
-// covers_a_centre: whether the set-up triangle `t` (clockwise, its box and top_left flags set; a box of at most 2 x 2 pixels)
-// covers a pixel centre of its box: draw_triangle's test of each pixel, E_i >= bias_i for the three edges (the
-// same exact integers), so a triangle dropped for covering none would have drawn nothing. The four centres of
-// the 2 x 2 block at the box's corner are tested without a branch, and those outside the box masked off.
-bool covers_a_centre(const RasterTri& t) {
+// A triangle whose box is at most 2 x 2 pixels has its pixel centres tested in set-up: it is dropped there if it
+// covers none (at 512 x 512 most of the dragon's triangles are smaller than a pixel, and 38% of those set up, 13%
+// of the bunny's, covered no centre, yet each was stored, binned and drawn), and otherwise keeps the centres it
+// covers (RasterTri::small_cover), which draw_small draws without edge functions.
+constexpr std::uint8_t kSmall = 16;   // RasterTri::small_cover: the box is at most 2 x 2 pixels
+
+// The centres of the set-up triangle `t` (clockwise, its box and top_left flags set; a box of at most 2 x 2
+// pixels) that it covers: bit i + 2 j for pixel (min_x + i, min_y + j). draw_triangle's test of each pixel,
+// E_i >= bias_i for the three edges (the same exact integers), so a triangle dropped for covering none would have
+// drawn nothing, and draw_small covers what draw_triangle would. The four centres of the 2 x 2 block at the box's
+// corner are tested without a branch, and those outside the box masked off.
+unsigned centres_covered(const RasterTri& t) {
     const std::int64_t cx = std::int64_t(t.min_x) * kSub + kSub / 2, cy = std::int64_t(t.min_y) * kSub + kSub / 2;
     const bool wide = t.max_x > t.min_x, tall = t.max_y > t.min_y;
     bool c00 = true, c10 = wide, c01 = tall, c11 = wide & tall;   // pixel (min_x + i, min_y + j) is cij
@@ -343,7 +350,7 @@ bool covers_a_centre(const RasterTri& t) {
         c01 = c01 & (e + down >= 0);
         c11 = c11 & (e + right + down >= 0);
     }
-    return (c00 | c10) | (c01 | c11);
+    return unsigned(c00) | unsigned(c10) << 1 | unsigned(c01) << 2 | unsigned(c11) << 3;
 }
 
 // One screen triangle from three corners (all with w > 0, inside the guard band): their screen positions and
@@ -396,7 +403,12 @@ Setup setup_triangle(const double ndc_z[3], const glm::dvec2 screen[3], const Cl
         if (is_top_left(std::int64_t(r.x[b]) - r.x[a], std::int64_t(r.y[b]) - r.y[a]))
             r.top_left = std::uint8_t(r.top_left | (1u << i));
     }
-    if (max_x - min_x <= 1 && max_y - min_y <= 1 && !covers_a_centre(r)) return Setup::Empty;
+    r.small_cover = 0;
+    if (max_x - min_x <= 1 && max_y - min_y <= 1) {
+        const unsigned covered = centres_covered(r);
+        if (covered == 0) return Setup::Empty;
+        r.small_cover = std::uint8_t(kSmall | covered);
+    }
 
     // NDC depth is an affine function of screen position (that is what makes a depth buffer work). Its
     // plane through the three snapped vertices, by Cramer's rule on z - z0 = a (x - x0) + b (y - y0):
@@ -505,7 +517,7 @@ struct SetupLanes {
     std::int32_t x[3][kSetupLanes], y[3][kSetupLanes];   // snapped, clockwise on screen
     double z0[kSetupLanes], dzdx[kSetupLanes], dzdy[kSetupLanes];
     std::int32_t min_x[kSetupLanes], max_x[kSetupLanes], min_y[kSetupLanes], max_y[kSetupLanes];
-    std::int32_t top_left[kSetupLanes], front[kSetupLanes], fate[kSetupLanes];
+    std::int32_t top_left[kSetupLanes], small_cover[kSetupLanes], front[kSetupLanes], fate[kSetupLanes];
 };
 
 // snap() as a floor: floor(v) is what snap's truncate-and-correct computes for every v of the guard band
@@ -580,7 +592,7 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
     const __m512i min_y = first_pixel(min64(Y0, min64(Y1, Y2)));
     const __m512i max_y = last_pixel(max64(Y0, max64(Y1, Y2)), f.height - 1);
     const __mmask8 box_empty = _mm512_cmpgt_epi64_mask(min_x, max_x) | _mm512_cmpgt_epi64_mask(min_y, max_y);
-    // edges opposite vertices 0, 1, 2 (1 -> 2, 2 -> 0, 0 -> 1): top-left flags and covers_a_centre's test
+    // edges opposite vertices 0, 1, 2 (1 -> 2, 2 -> 0, 0 -> 1): top-left flags and centres_covered's test
     const __m512i ax[3] = {X1, X2, X0}, ay[3] = {Y1, Y2, Y0};
     const __m512i dx[3] = {_mm512_sub_epi64(X2, X1), _mm512_sub_epi64(X0, X2), _mm512_sub_epi64(X1, X0)};
     const __m512i dy[3] = {_mm512_sub_epi64(Y2, Y1), _mm512_sub_epi64(Y0, Y2), _mm512_sub_epi64(Y1, Y0)};
@@ -641,6 +653,11 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
                                                               _mm256_maskz_mov_epi32(tl[1], _mm256_set1_epi32(2))),
                                              _mm256_maskz_mov_epi32(tl[2], _mm256_set1_epi32(4)));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.top_left), top_left);
+    const __m256i cover = _mm256_or_si256(
+        _mm256_or_si256(_mm256_maskz_mov_epi32(c00, _mm256_set1_epi32(1)), _mm256_maskz_mov_epi32(c10, _mm256_set1_epi32(2))),
+        _mm256_or_si256(_mm256_maskz_mov_epi32(c01, _mm256_set1_epi32(4)), _mm256_maskz_mov_epi32(c11, _mm256_set1_epi32(8))));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.small_cover),
+                        _mm256_maskz_mov_epi32(small, _mm256_or_si256(cover, _mm256_set1_epi32(kSmall))));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.front), _mm256_maskz_mov_epi32(front, _mm256_set1_epi32(1)));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.fate), fate);
 }
@@ -680,7 +697,7 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
         const std::int64_t dx0 = X2 - X1, dy0 = Y2 - Y1, dx1 = X0 - X2, dy1 = Y0 - Y2, dx2 = X1 - X0, dy2 = Y1 - Y0;
         const bool tl0 = (dy0 < 0) | ((dy0 == 0) & (dx0 > 0)), tl1 = (dy1 < 0) | ((dy1 == 0) & (dx1 > 0)),
                    tl2 = (dy2 < 0) | ((dy2 == 0) & (dx2 > 0));
-        // covers_a_centre's test of a box of at most 2 x 2 pixels
+        // centres_covered's test of a box of at most 2 x 2 pixels
         const bool small = (max_x - min_x <= 1) & (max_y - min_y <= 1);
         const std::int64_t cx = min_x * kSub + kSub / 2, cy = min_y * kSub + kSub / 2;
         const std::int64_t e0 = dx0 * (cy - Y1) - dy0 * (cx - X1) - (tl0 ? 0 : 1);
@@ -718,6 +735,7 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
         s.min_y[l] = std::int32_t(min_y);
         s.max_y[l] = std::int32_t(max_y);
         s.top_left[l] = (tl0 ? 1 : 0) | (tl1 ? 2 : 0) | (tl2 ? 4 : 0);
+        s.small_cover[l] = small ? kSmall | (c00 ? 1 : 0) | (c10 ? 2 : 0) | (c01 ? 4 : 0) | (c11 ? 8 : 0) : 0;
         s.front[l] = front;
         s.fate[l] = fate;
     }
@@ -753,6 +771,7 @@ void setup_group(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* ve
         r.min_y = std::int16_t(s.min_y[l]);
         r.max_y = std::int16_t(s.max_y[l]);
         r.top_left = std::uint8_t(s.top_left[l]);
+        r.small_cover = std::uint8_t(s.small_cover[l]);
         const glm::u32vec3& tri = mesh.triangles[t + std::size_t(l)];
         const bool front = s.front[l] != 0;
         ShadeTri sh;
@@ -1031,6 +1050,28 @@ inline std::int32_t depth_span_row(double* d, std::int32_t* o, int tile_x0, int 
 }
 #endif
 
+// Draws a triangle of at most 2 x 2 pixels (set-up id `tid`) into the tile of `buf` from the centres set-up found
+// it covers (RasterTri::small_cover): draw_triangle's narrow rows, each row's covered pixels (inside the tile) as
+// one depth_span_narrow with the same depth, without draw_triangle's edge functions.
+void draw_small(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
+    const int ya = std::max(int(t.min_y), buf.y0), yb = std::min(int(t.max_y), buf.y1 - 1);
+    // the box's two columns that lie in the tile: bit 0 column min_x, bit 1 column min_x + 1
+    const unsigned columns = (int(t.min_x) >= buf.x0 ? 1u : 0u) | (int(t.min_x) + 1 < buf.x1 ? 2u : 0u);
+    const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
+    for (int y = ya; y <= yb; ++y) {
+        const unsigned bits = (unsigned(t.small_cover) >> (2 * (y - int(t.min_y)))) & columns & 3u;
+        if (bits == 0) continue;
+        const int xs = int(t.min_x) + ((bits & 1u) ? 0 : 1), xe = int(t.min_x) + ((bits & 2u) ? 1 : 0);
+        const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
+        double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
+        std::int32_t* const o = buf.tile_owner + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
+        RowSpan& span = buf.rows[y - buf.y0];
+        span.covered += depth_span_narrow(d, o, buf.x0, xs, xe, zy, t.dzdx, x0, tid);
+        span.lo = std::min(span.lo, xs);
+        span.hi = std::max(span.hi, xe + 1);
+    }
+}
+
 // Draws triangle `t` (set-up id `tid`) into the tile of `buf`.
 // Edge i runs from vertex i+1 to vertex i+2; its function at pixel centre (cx, cy), in sub-pixels, is
 // E_i = dx (cy - ay) - dy (cx - ax): exact integers, stepping by -dy * kSub per pixel in x. A pixel is inside
@@ -1039,6 +1080,10 @@ inline std::int32_t depth_span_row(double* d, std::int32_t* o, int tile_x0, int 
 // solve E_i >= 0 for it (the same exact integer inequalities, so the same pixels). Either way a row's covered
 // pixels take one depth_span.
 void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
+    if (t.small_cover != 0) {
+        draw_small(t, tid, buf);
+        return;
+    }
     const int ya = std::max(int(t.min_y), buf.y0), yb = std::min(int(t.max_y), buf.y1 - 1);
     const int min_x = std::max(int(t.min_x), buf.x0), max_x = std::min(int(t.max_x), buf.x1 - 1);
     if (ya > yb || min_x > max_x) return;
