@@ -538,14 +538,24 @@ inline __m512i slli64(__m512i v, unsigned n) { return _mm512_maskz_slli_epi64(0x
 inline __m512i srai64(__m512i v, unsigned n) { return _mm512_maskz_srai_epi64(0xFF, v, n); }
 inline __m512i min64(__m512i a, __m512i b) { return _mm512_maskz_min_epi64(0xFF, a, b); }
 inline __m512i max64(__m512i a, __m512i b) { return _mm512_maskz_max_epi64(0xFF, a, b); }
-void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Frame& f, SetupLanes& s) {
+// Eight triangles' corners as setup_lanes computes with them: snapped positions and NDC depths in screen order
+// (clockwise), twice the signed area before the swap, and setup_mesh_triangle's tests.
+struct LaneCorners {
+    __m512i X[3], Y[3], area;
+    __m512d Z[3];
+    __mmask8 outside, one_by_one, front;   // all beyond one plane; needs clipping; front-facing (swapped)
+};
+
+// The corners of triangles tris[0 .. 7]: their vertex records gathered, the positions snapped (zeros in the lanes
+// outside or left to the one-at-a-time path), oriented clockwise as setup_triangle orients them.
+LaneCorners gather_lanes(const glm::u32vec3* tris, const SetupVertex* vertices) {
     static_assert(sizeof(SetupVertex) == 32 && offsetof(SetupVertex, ndc_z) == 16 && offsetof(SetupVertex, code) == 24,
                   "setup_lanes gathers a SetupVertex as four 8-byte words");
     alignas(64) std::int64_t index[3][kSetupLanes];
     for (int l = 0; l < kSetupLanes; ++l)
         for (int k = 0; k < 3; ++k) index[k][l] = std::int64_t(tris[l][k]) * 4;   // the record's first 8-byte word
     const double* const words = reinterpret_cast<const double*>(vertices);
-    const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi64(1);
+    const __m512i zero = _mm512_setzero_si512();
     __m512i I[3];
     __m256i code[3];
     for (int k = 0; k < 3; ++k) {
@@ -575,10 +585,29 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
     const __m512i area = _mm512_sub_epi64(_mm512_mullo_epi64(_mm512_sub_epi64(X[1], X[0]), _mm512_sub_epi64(Y[2], Y[0])),
                                           _mm512_mullo_epi64(_mm512_sub_epi64(Y[1], Y[0]), _mm512_sub_epi64(X[2], X[0])));
     const __mmask8 front = _mm512_cmplt_epi64_mask(area, zero);
-    const __m512i X1 = _mm512_mask_blend_epi64(front, X[1], X[2]), X2 = _mm512_mask_blend_epi64(front, X[2], X[1]);
-    const __m512i Y1 = _mm512_mask_blend_epi64(front, Y[1], Y[2]), Y2 = _mm512_mask_blend_epi64(front, Y[2], Y[1]);
-    const __m512i X0 = X[0], Y0 = Y[0];
-    const __m512d z0 = Z[0], z1 = _mm512_mask_blend_pd(front, Z[1], Z[2]), z2 = _mm512_mask_blend_pd(front, Z[2], Z[1]);
+    LaneCorners c;
+    c.X[0] = X[0];
+    c.Y[0] = Y[0];
+    c.Z[0] = Z[0];
+    c.X[1] = _mm512_mask_blend_epi64(front, X[1], X[2]);
+    c.X[2] = _mm512_mask_blend_epi64(front, X[2], X[1]);
+    c.Y[1] = _mm512_mask_blend_epi64(front, Y[1], Y[2]);
+    c.Y[2] = _mm512_mask_blend_epi64(front, Y[2], Y[1]);
+    c.Z[1] = _mm512_mask_blend_pd(front, Z[1], Z[2]);
+    c.Z[2] = _mm512_mask_blend_pd(front, Z[2], Z[1]);
+    c.area = area;
+    c.outside = outside;
+    c.one_by_one = one_by_one;
+    c.front = front;
+    return c;
+}
+
+// Box, top-left flags, covered centres and fate of each lane (setup_triangle's and setup_mesh_triangle's tests in
+// their order), and the corners, stored into `s`.
+void lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
+    const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi64(1);
+    const __m512i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2], area = c.area;
+    const __mmask8 outside = c.outside, one_by_one = c.one_by_one, front = c.front;
     // bounding box
     const __m512i centre = _mm512_set1_epi64(kSub / 2);
     auto first_pixel = [&](__m512i lo) {   // -floor_sub(-(lo - kSub / 2)), at least 0
@@ -622,20 +651,6 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
     fate = _mm256_mask_mov_epi32(fate, _mm512_cmpeq_epi64_mask(area, zero), _mm256_set1_epi32(kEmptyLane));
     fate = _mm256_mask_mov_epi32(fate, one_by_one, _mm256_set1_epi32(kOneByOne));
     fate = _mm256_mask_mov_epi32(fate, outside, _mm256_set1_epi32(kCulledLane));
-    const __mmask8 kept = _mm256_cmpeq_epi32_mask(fate, _mm256_setzero_si256());
-    // depth plane, as setup_triangle (a lane that is not kept divides by 1: its values are unused)
-    const __m512d inv_sub = _mm512_set1_pd(1.0 / double(kSub));
-    const __m512d x0 = _mm512_mul_pd(_mm512_cvtepi64_pd(X0), inv_sub), y0 = _mm512_mul_pd(_mm512_cvtepi64_pd(Y0), inv_sub);
-    const __m512d x1 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(X1), inv_sub), x0);
-    const __m512d y1 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(Y1), inv_sub), y0);
-    const __m512d x2 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(X2), inv_sub), x0);
-    const __m512d y2 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(Y2), inv_sub), y0);
-    const __m512d det = _mm512_mask_blend_pd(kept, _mm512_set1_pd(1.0),
-                                             _mm512_sub_pd(_mm512_mul_pd(x1, y2), _mm512_mul_pd(x2, y1)));
-    const __m512d dz1 = _mm512_sub_pd(z1, z0), dz2 = _mm512_sub_pd(z2, z0);
-    _mm512_storeu_pd(s.dzdx, _mm512_div_pd(_mm512_sub_pd(_mm512_mul_pd(dz1, y2), _mm512_mul_pd(dz2, y1)), det));
-    _mm512_storeu_pd(s.dzdy, _mm512_div_pd(_mm512_sub_pd(_mm512_mul_pd(dz2, x1), _mm512_mul_pd(dz1, x2)), det));
-    _mm512_storeu_pd(s.z0, z0);
     auto store32 = [](std::int32_t* to, __m512i v) {
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(to), _mm512_maskz_cvtepi64_epi32(0xFF, v));
     };
@@ -660,6 +675,33 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
                         _mm256_maskz_mov_epi32(small, _mm256_or_si256(cover, _mm256_set1_epi32(kSmall))));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.front), _mm256_maskz_mov_epi32(front, _mm256_set1_epi32(1)));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.fate), fate);
+}
+
+// The depth plane of each lane, as setup_triangle computes it, into `s` (a lane that is not kept divides by 1).
+void lane_depth_planes(const LaneCorners& c, SetupLanes& s) {
+    const __mmask8 kept = _mm256_cmpeq_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.fate)),
+                                                  _mm256_setzero_si256());
+    const __m512i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2];
+    const __m512d z0 = c.Z[0], z1 = c.Z[1], z2 = c.Z[2];
+    // depth plane, as setup_triangle (a lane that is not kept divides by 1: its values are unused)
+    const __m512d inv_sub = _mm512_set1_pd(1.0 / double(kSub));
+    const __m512d x0 = _mm512_mul_pd(_mm512_cvtepi64_pd(X0), inv_sub), y0 = _mm512_mul_pd(_mm512_cvtepi64_pd(Y0), inv_sub);
+    const __m512d x1 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(X1), inv_sub), x0);
+    const __m512d y1 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(Y1), inv_sub), y0);
+    const __m512d x2 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(X2), inv_sub), x0);
+    const __m512d y2 = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepi64_pd(Y2), inv_sub), y0);
+    const __m512d det = _mm512_mask_blend_pd(kept, _mm512_set1_pd(1.0),
+                                             _mm512_sub_pd(_mm512_mul_pd(x1, y2), _mm512_mul_pd(x2, y1)));
+    const __m512d dz1 = _mm512_sub_pd(z1, z0), dz2 = _mm512_sub_pd(z2, z0);
+    _mm512_storeu_pd(s.dzdx, _mm512_div_pd(_mm512_sub_pd(_mm512_mul_pd(dz1, y2), _mm512_mul_pd(dz2, y1)), det));
+    _mm512_storeu_pd(s.dzdy, _mm512_div_pd(_mm512_sub_pd(_mm512_mul_pd(dz2, x1), _mm512_mul_pd(dz1, x2)), det));
+    _mm512_storeu_pd(s.z0, z0);
+}
+
+void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Frame& f, SetupLanes& s) {
+    const LaneCorners c = gather_lanes(tris, vertices);
+    lane_fates(c, f, s);
+    lane_depth_planes(c, s);
 }
 #else
 // Without AVX-512: the lanes one after the other, each computed as setup_triangle does.
