@@ -8,7 +8,7 @@
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
 //   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box; a box of
 //                       at most 2 x 2 pixels has its centres tested (centres_covered): none, and the triangle is
-//                       dropped; setup_lanes does the same for eight triangles at a time (AVX-512 vectors);
+//                       dropped; setup_lanes does the same for eight triangles at a time on AVX-512 hosts;
 //   bin_chunk           each triangle listed in the 128 x 64 pixel tiles its bounding box touches;
 //   raster_tile         per tile: edge functions at pixel centres + depth test (depth_span, a loop without
 //                       branches that vectorises) into the visibility buffer (triangle id per pixel), with
@@ -77,6 +77,9 @@ std::string str(const glm::dvec3& v) { return "(" + str(v.x) + ", " + str(v.y) +
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Not NaN or inf, as a comparison (|v| <= max) that vectorises.
+inline bool finite_d(double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); }
+
 [[noreturn]] void fail(const std::string& what) { throw Error("rasteriser: " + what); }
 
 // The options and the camera (validate_mesh checks the mesh).
@@ -98,7 +101,6 @@ void validate(const Camera& cam, const RasterOptions& o) {
     if (cam.eye == cam.target) fail("camera eye and target are the same point " + str(cam.eye) + ": move one of them");
     if (glm::length(glm::cross(cam.target - cam.eye, cam.up)) == 0.0)
         fail("camera up " + str(cam.up) + " is zero or parallel to the view direction: choose another up vector");
-
 }
 
 // The mesh checks run every frame, over every vertex and triangle: blocks of kCheckBlock elements, each tested as
@@ -130,7 +132,6 @@ void validate_mesh(const Mesh& mesh, int threads) {
              std::to_string(mesh.positions.size()) + " vertices: need one normal per vertex");
     const glm::dvec3 *const P = mesh.positions.data(), *const N = mesh.normals.data();
     const std::size_t nv = mesh.positions.size();
-    const auto finite_d = [](double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); };   // not NaN or inf
     const std::size_t v = first_bad(
         nv, threads,
         [&](std::size_t lo, std::size_t hi) {
@@ -203,7 +204,7 @@ enum Outcode : std::uint8_t {
 struct SetupVertex {
     glm::dvec2 screen;
     double ndc_z;
-    std::uint32_t code;   // an Outcode's bits (32 bits wide, so that set-up's lane loop can gather it)
+    std::uint32_t code;   // an Outcode's bits (32 bits wide, so that setup_lanes can gather it)
 };
 
 std::uint8_t outcode(const glm::dvec4& c, double guard) {
@@ -501,14 +502,25 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const SetupVe
     if (culled > 0 && kept == 0) ++out.stats.triangles_culled;
 }
 
-// Set-up of kSetupLanes mesh triangles at once (setup_lanes), for those that need no clipping (the common case):
-// on AVX-512 hosts one vector per value (gathers of the three vertices' records, 64-bit integer edge functions,
-// double depth planes), elsewhere a loop over the lanes without branches. One triangle at a time, set-up took
-// about 200 cycles a triangle on the dragon (202k triangles), spent on instructions rather than memory: most of a
-// 512 x 512 frame's set-up. Every value is setup_triangle's: the same exact integers, the same double operations
-// in the same order (no fused multiply-adds: -ffp-contract=off), the same tests in the same order (a lane's
-// fate). A triangle outside the frustum is counted as culled, and one that needs clipping left to
-// setup_mesh_triangle.
+// Set-up reads each triangle's three vertices, which are scattered over the vertex arrays when the mesh's
+// triangle order is not spatial (the bunny's and the dragon's are not): it asks for those of the triangle
+// kSetupAhead on, so that their loads overlap the set-up of the ones between. Only a hint.
+constexpr std::size_t kSetupAhead = 8;
+void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
+    for (int k = 0; k < 3; ++k) __builtin_prefetch(&vertices[tri[k]]);
+}
+
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+// Set-up of kSetupLanes mesh triangles at once (setup_lanes) on AVX-512 hosts, for those that need no clipping
+// (the common case): one vector per value (gathers of the three vertices' records, 64-bit integer edge functions,
+// double depth planes). One triangle at a time, set-up took about 200 cycles a triangle on the dragon (202k
+// triangles), spent on instructions rather than memory: most of a 512 x 512 frame's set-up. Every value is
+// setup_triangle's: the same exact integers, the same double operations in the same order (no fused
+// multiply-adds: -ffp-contract=off), the same tests in the same order (a lane's fate). A triangle outside the
+// frustum is counted as culled, and one that needs clipping left to setup_mesh_triangle. Without AVX-512,
+// set-up stays one triangle at a time: GCC 12 does not vectorise a loop over the lanes ("control flow in loop":
+// int64 -> double conversions count as trapping; without that, no vector type for the records' loads), AVX2
+// has no 64-bit multiply, and such a loop measured no faster than setup_triangle on `-march=haswell` code.
 constexpr int kSetupLanes = 8;
 enum Fate : std::int32_t { kKept = 0, kCulledLane = 1, kEmptyLane = 2, kOneByOne = 3 };
 
@@ -520,16 +532,9 @@ struct SetupLanes {
     std::int32_t top_left[kSetupLanes], small_cover[kSetupLanes], front[kSetupLanes], fate[kSetupLanes];
 };
 
-// snap() as a floor: floor(v) is what snap's truncate-and-correct computes for every v of the guard band
-// (|v| < 2^28, far inside the exactly representable integers).
-inline std::int64_t snap_lane(double pixels) { return std::int64_t(std::floor(pixels * double(kSub) + 0.5)); }
-
-#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
-// AVX-512: one vector of 8 lanes per value (64-bit integers and doubles), the vertex records gathered. GCC 12 does
-// not vectorise the portable lane loop below ("control flow in loop": int64 -> double conversions count as
-// trapping; and without that, no vector type for the records' loads), and AVX2 has no 64-bit multiply.
 // Each operation is the scalar one lane by lane: IEEE multiplications, additions, divisions and conversions are
-// exact or correctly rounded in vector and scalar alike; floor(v) is roundscale towards -inf; x / 256 is
+// exact or correctly rounded in vector and scalar alike; floor(v) (roundscale towards -inf) is what snap's
+// truncate-and-correct computes for every v of the guard band (|v| < 2^28); x / 256 is
 // x * (1 / 256), exact for both (a power of two, no underflow at these magnitudes).
 static_assert(kSetupLanes == 8, "one AVX-512 vector of 64-bit lanes per value");
 // GCC 12 warns (-Wuninitialized) on the unmasked forms of these, which pass an undefined vector through: the
@@ -603,8 +608,8 @@ LaneCorners gather_lanes(const glm::u32vec3* tris, const SetupVertex* vertices) 
 }
 
 // Box, top-left flags, covered centres and fate of each lane (setup_triangle's and setup_mesh_triangle's tests in
-// their order), and the corners, stored into `s`.
-void lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
+// their order), and the corners, stored into `s`. Returns the kept lanes.
+__mmask8 lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
     const __m512i zero = _mm512_setzero_si512(), one = _mm512_set1_epi64(1);
     const __m512i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2], area = c.area;
     const __mmask8 outside = c.outside, one_by_one = c.one_by_one, front = c.front;
@@ -675,12 +680,11 @@ void lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
                         _mm256_maskz_mov_epi32(small, _mm256_or_si256(cover, _mm256_set1_epi32(kSmall))));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.front), _mm256_maskz_mov_epi32(front, _mm256_set1_epi32(1)));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(s.fate), fate);
+    return _mm256_cmpeq_epi32_mask(fate, _mm256_set1_epi32(kKept));
 }
 
 // The depth plane of each lane, as setup_triangle computes it, into `s` (a lane that is not kept divides by 1).
-void lane_depth_planes(const LaneCorners& c, SetupLanes& s) {
-    const __mmask8 kept = _mm256_cmpeq_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.fate)),
-                                                  _mm256_setzero_si256());
+void lane_depth_planes(const LaneCorners& c, __mmask8 kept, SetupLanes& s) {
     const __m512i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2];
     const __m512d z0 = c.Z[0], z1 = c.Z[1], z2 = c.Z[2];
     // depth plane, as setup_triangle (a lane that is not kept divides by 1: its values are unused)
@@ -700,90 +704,8 @@ void lane_depth_planes(const LaneCorners& c, SetupLanes& s) {
 
 void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Frame& f, SetupLanes& s) {
     const LaneCorners c = gather_lanes(tris, vertices);
-    lane_fates(c, f, s);
-    lane_depth_planes(c, s);
+    lane_depth_planes(c, lane_fates(c, f, s), s);
 }
-#else
-// Without AVX-512: the lanes one after the other, each computed as setup_triangle does.
-void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Frame& f, SetupLanes& s) {
-    const std::int64_t last_col = f.width - 1, last_row = f.height - 1;
-    const bool cull = f.cull;
-    for (int l = 0; l < kSetupLanes; ++l) {
-        const std::uint32_t i0 = tris[l][0], i1 = tris[l][1], i2 = tris[l][2];
-        const std::uint32_t o0 = vertices[i0].code, o1 = vertices[i1].code, o2 = vertices[i2].code;
-        // setup_mesh_triangle's tests: all three beyond one plane (culled), else clipping needed (left to it)
-        const bool outside = (o0 & o1 & o2 & kFrustumBits) != 0;
-        const bool one_by_one = outside | (((o0 | o1 | o2) & (kBehindNear | kOffGuard)) != 0);
-        // (such a lane's positions may be far off or not finite: it computes from zeros, and its values are unused;
-        // every load is unconditional, a select after it, so that the loop has no branch)
-        const glm::dvec2 p0 = vertices[i0].screen, p1 = vertices[i1].screen, p2 = vertices[i2].screen;
-        const double sx0 = one_by_one ? 0.0 : p0.x, sy0 = one_by_one ? 0.0 : p0.y;
-        const double sx1 = one_by_one ? 0.0 : p1.x, sy1 = one_by_one ? 0.0 : p1.y;
-        const double sx2 = one_by_one ? 0.0 : p2.x, sy2 = one_by_one ? 0.0 : p2.y;
-        const std::int64_t X0 = snap_lane(sx0), Y0 = snap_lane(sy0);
-        const std::int64_t X1r = snap_lane(sx1), Y1r = snap_lane(sy1), X2r = snap_lane(sx2), Y2r = snap_lane(sy2);
-        const std::int64_t area = (X1r - X0) * (Y2r - Y0) - (Y1r - Y0) * (X2r - X0);   // edge_function
-        const bool front = area < 0;
-        const std::int64_t X1 = front ? X2r : X1r, Y1 = front ? Y2r : Y1r, X2 = front ? X1r : X2r, Y2 = front ? Y1r : Y2r;
-        const double z0 = vertices[i0].ndc_z, z1r = vertices[i1].ndc_z, z2r = vertices[i2].ndc_z;
-        const double z1 = front ? z2r : z1r, z2 = front ? z1r : z2r;
-        // bounding box, as setup_triangle
-        const std::int64_t lo_x = std::min(X0, std::min(X1, X2)), hi_x = std::max(X0, std::max(X1, X2));
-        const std::int64_t lo_y = std::min(Y0, std::min(Y1, Y2)), hi_y = std::max(Y0, std::max(Y1, Y2));
-        const std::int64_t min_x = std::max<std::int64_t>(-floor_sub(-(lo_x - kSub / 2)), 0);
-        const std::int64_t max_x = std::min<std::int64_t>(floor_sub(hi_x - kSub / 2), last_col);
-        const std::int64_t min_y = std::max<std::int64_t>(-floor_sub(-(lo_y - kSub / 2)), 0);
-        const std::int64_t max_y = std::min<std::int64_t>(floor_sub(hi_y - kSub / 2), last_row);
-        const bool box_empty = (min_x > max_x) | (min_y > max_y);
-        // top-left flags (is_top_left) of the edges opposite vertices 0, 1, 2: 1 -> 2, 2 -> 0, 0 -> 1
-        const std::int64_t dx0 = X2 - X1, dy0 = Y2 - Y1, dx1 = X0 - X2, dy1 = Y0 - Y2, dx2 = X1 - X0, dy2 = Y1 - Y0;
-        const bool tl0 = (dy0 < 0) | ((dy0 == 0) & (dx0 > 0)), tl1 = (dy1 < 0) | ((dy1 == 0) & (dx1 > 0)),
-                   tl2 = (dy2 < 0) | ((dy2 == 0) & (dx2 > 0));
-        // centres_covered's test of a box of at most 2 x 2 pixels
-        const bool small = (max_x - min_x <= 1) & (max_y - min_y <= 1);
-        const std::int64_t cx = min_x * kSub + kSub / 2, cy = min_y * kSub + kSub / 2;
-        const std::int64_t e0 = dx0 * (cy - Y1) - dy0 * (cx - X1) - (tl0 ? 0 : 1);
-        const std::int64_t e1 = dx1 * (cy - Y2) - dy1 * (cx - X2) - (tl1 ? 0 : 1);
-        const std::int64_t e2 = dx2 * (cy - Y0) - dy2 * (cx - X0) - (tl2 ? 0 : 1);
-        const std::int64_t r0 = -dy0 * kSub, r1 = -dy1 * kSub, r2 = -dy2 * kSub;   // one pixel right
-        const std::int64_t d0 = dx0 * kSub, d1 = dx1 * kSub, d2 = dx2 * kSub;      // one pixel down
-        const bool wide = max_x > min_x, tall = max_y > min_y;
-        const bool c00 = (e0 >= 0) & (e1 >= 0) & (e2 >= 0);
-        const bool c10 = wide & (e0 + r0 >= 0) & (e1 + r1 >= 0) & (e2 + r2 >= 0);
-        const bool c01 = tall & (e0 + d0 >= 0) & (e1 + d1 >= 0) & (e2 + d2 >= 0);
-        const bool c11 = wide & tall & (e0 + r0 + d0 >= 0) & (e1 + r1 + d1 >= 0) & (e2 + r2 + d2 >= 0);
-        const bool uncovered = small & !((c00 | c10) | (c01 | c11));
-        const std::int32_t fate = outside      ? kCulledLane
-                                  : one_by_one ? kOneByOne
-                                  : area == 0 ? kEmptyLane
-                                  : (cull & !front) ? kCulledLane
-                                  : (box_empty | uncovered) ? kEmptyLane : kKept;
-        // depth plane, as setup_triangle (a lane that is not kept divides by 1: its values are unused)
-        const double x0 = double(X0) / double(kSub), y0 = double(Y0) / double(kSub);
-        const double x1 = double(X1) / double(kSub) - x0, y1 = double(Y1) / double(kSub) - y0;
-        const double x2 = double(X2) / double(kSub) - x0, y2 = double(Y2) / double(kSub) - y0;
-        const double area_d = x1 * y2 - x2 * y1, det = fate == kKept ? area_d : 1.0;
-        s.dzdx[l] = ((z1 - z0) * y2 - (z2 - z0) * y1) / det;
-        s.dzdy[l] = ((z2 - z0) * x1 - (z1 - z0) * x2) / det;
-        s.z0[l] = z0;
-        s.x[0][l] = std::int32_t(X0);
-        s.x[1][l] = std::int32_t(X1);
-        s.x[2][l] = std::int32_t(X2);
-        s.y[0][l] = std::int32_t(Y0);
-        s.y[1][l] = std::int32_t(Y1);
-        s.y[2][l] = std::int32_t(Y2);
-        s.min_x[l] = std::int32_t(min_x);
-        s.max_x[l] = std::int32_t(max_x);
-        s.min_y[l] = std::int32_t(min_y);
-        s.max_y[l] = std::int32_t(max_y);
-        s.top_left[l] = (tl0 ? 1 : 0) | (tl1 ? 2 : 0) | (tl2 ? 4 : 0);
-        s.small_cover[l] = small ? kSmall | (c00 ? 1 : 0) | (c10 ? 2 : 0) | (c01 ? 4 : 0) | (c11 ? 8 : 0) : 0;
-        s.front[l] = front;
-        s.fate[l] = fate;
-    }
-}
-
-#endif
 
 // Mesh triangles [t, t + kSetupLanes) into `out`, in order: setup_lanes' kept triangles as setup_triangle stores
 // them, its culled ones counted, and the ones it leaves to setup_mesh_triangle set up there.
@@ -825,6 +747,25 @@ void setup_group(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* ve
         out.shade.push_back(sh);
     }
 }
+
+// Mesh triangles [b, e) of a chunk, eight at a time, into `out`; returns the first triangle left (fewer than eight).
+std::size_t setup_groups(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* vertices, std::size_t b,
+                         std::size_t e, const Frame& f, Chunk& out) {
+    std::size_t t = b;
+    for (; t + kSetupLanes <= e; t += kSetupLanes) {
+        for (std::size_t p = t + kSetupAhead; p < std::min(e, t + kSetupAhead + kSetupLanes); ++p)
+            prefetch_vertices(mesh.triangles[p], vertices);
+        setup_group(mesh, clip, vertices, t, f, out);
+    }
+    return t;
+}
+#else
+// Without AVX-512 no group: every triangle is set up one at a time.
+std::size_t setup_groups(const Mesh&, const glm::dvec4*, const SetupVertex*, std::size_t b, std::size_t, const Frame&,
+                         Chunk&) {
+    return b;
+}
+#endif
 
 // ------------------------------------------------------------------------------------------------------
 // Rasterisation into the visibility buffer (depth + winning triangle), tile by tile.
@@ -1537,8 +1478,6 @@ int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::in
 #else
 // The portable build (no AVX): the block as a loop the compiler vectorises.
 
-inline bool finite_d(double v) { return std::fabs(v) <= std::numeric_limits<double>::max(); }
-
 // One run's view for emit_lanes: the output arrays from the run's first slot, the triangle's affine numerators
 // and the frame constants, copied into locals so that the lane loop keeps them in registers.
 struct RunView {
@@ -1771,13 +1710,6 @@ struct SetupResult {
     std::vector<std::int32_t> first_id;   // first set-up triangle id of each chunk (+ total)
 };
 
-// Set-up reads each triangle's three vertices, which are scattered over the vertex arrays when the mesh's
-// triangle order is not spatial (the bunny's and the dragon's are not): it asks for those of the triangle
-// kSetupAhead on, so that their loads overlap the set-up of the ones between. Only a hint.
-constexpr std::size_t kSetupAhead = 8;
-void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
-    for (int k = 0; k < 3; ++k) __builtin_prefetch(&vertices[tri[k]]);
-}
 
 // Set-up's pieces: vertices in blocks of kVertexBlock, triangles in chunks of kSetupChunk (the last ones
 // shorter), taken by the threads from a shared counter. With one contiguous range a thread, a thread that the
@@ -1830,13 +1762,10 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
         const std::size_t b = std::min(nt, i * chunk_size), e = std::min(nt, b + chunk_size);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
-        std::size_t t = b;
-        for (; t + kSetupLanes <= e; t += kSetupLanes) {
-            for (std::size_t p = t + kSetupAhead; p < std::min(e, t + kSetupAhead + kSetupLanes); ++p)
-                prefetch_vertices(mesh.triangles[p], vertices);
-            setup_group(mesh, clip, vertices, t, f, chunk);
+        for (std::size_t t = setup_groups(mesh, clip, vertices, b, e, f, chunk); t < e; ++t) {
+            if (t + kSetupAhead < e) prefetch_vertices(mesh.triangles[t + kSetupAhead], vertices);
+            setup_mesh_triangle(mesh, clip, vertices, t, f, chunk);
         }
-        for (; t < e; ++t) setup_mesh_triangle(mesh, clip, vertices, t, f, chunk);
     });
     s.first_id.assign(s.chunks.size() + 1, 0);
     for (std::size_t i = 0; i < s.chunks.size(); ++i) {
