@@ -439,8 +439,9 @@ Setup setup_triangle(const double ndc_z[3], const glm::dvec2 screen[3], const Cl
 }
 
 // Clip one mesh triangle and set up the screen triangles it becomes (none, one, or a fan of several).
-// `clip` and `vertices` are the frame's per-vertex clip positions and set-up records.
-void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* vertices, std::size_t mt,
+// `vertices` are the frame's per-vertex set-up records; a triangle that needs clipping forms its three clip
+// positions again (the vertex pass keeps none: an array of 32 bytes a vertex written for the few such triangles).
+void setup_mesh_triangle(const Mesh& mesh, const SetupVertex* vertices, std::size_t mt,
                          const Frame& f, Chunk& out) {
     const glm::u32vec3& tri = mesh.triangles[mt];
     const SetupVertex &v0 = vertices[tri[0]], &v1 = vertices[tri[1]], &v2 = vertices[tri[2]];
@@ -459,7 +460,10 @@ void setup_mesh_triangle(const Mesh& mesh, const glm::dvec4* clip, const SetupVe
         if (setup_triangle(z, sc, nullptr, vi, f, std::int32_t(mt), out) == Setup::Culled) ++out.stats.triangles_culled;
         return;
     }
-    const glm::dvec4 c[3] = {clip[tri[0]], clip[tri[1]], clip[tri[2]]};
+    // the clip positions again, by the vertex pass's own function: bit for bit the values its records came from
+    const glm::dvec4 c[3] = {to_clip(f.view_projection, mesh.positions[tri[0]]),
+                             to_clip(f.view_projection, mesh.positions[tri[1]]),
+                             to_clip(f.view_projection, mesh.positions[tri[2]])};
 
     ClipVertex poly[kMaxPolygon], tmp[kMaxPolygon];
     for (int k = 0; k < 3; ++k) {
@@ -510,18 +514,27 @@ void prefetch_vertices(const glm::u32vec3& tri, const SetupVertex* vertices) {
     for (int k = 0; k < 3; ++k) __builtin_prefetch(&vertices[tri[k]]);
 }
 
-#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
-// Set-up of kSetupLanes mesh triangles at once (setup_lanes) on AVX-512 hosts, for those that need no clipping
-// (the common case): one vector per value (gathers of the three vertices' records, 64-bit integer edge functions,
-// double depth planes). One triangle at a time, set-up took about 200 cycles a triangle on the dragon (202k
-// triangles), spent on instructions rather than memory: most of a 512 x 512 frame's set-up. Every value is
+// Set-up of kSetupLanes mesh triangles at once (setup_lanes) on AVX-512 and AVX2 hosts, for those that need no
+// clipping (the common case): one vector per value (gathers of the three vertices' records, 64-bit integer edge
+// functions, double depth planes). One triangle at a time, set-up took about 200 cycles a triangle on the dragon
+// (202k triangles), spent on instructions rather than memory: most of a 512 x 512 frame's set-up. Every value is
 // setup_triangle's: the same exact integers, the same double operations in the same order (no fused
 // multiply-adds: -ffp-contract=off), the same tests in the same order (a lane's fate). A triangle outside the
-// frustum is counted as culled, and one that needs clipping left to setup_mesh_triangle. Without AVX-512,
-// set-up stays one triangle at a time: GCC 12 does not vectorise a loop over the lanes ("control flow in loop":
-// int64 -> double conversions count as trapping; without that, no vector type for the records' loads), AVX2
-// has no 64-bit multiply, and such a loop measured no faster than setup_triangle on `-march=haswell` code.
+// frustum is counted as culled, and one that needs clipping left to setup_mesh_triangle. Written in intrinsics:
+// GCC 12 does not vectorise a loop over the lanes ("control flow in loop": int64 -> double conversions count as
+// trapping; without that, no vector type for the records' loads), and such a loop measured no faster than
+// setup_triangle on `-march=haswell` code. Builds with neither set up one triangle at a time.
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+#define SHADELAB_SETUP_LANES 512
 constexpr int kSetupLanes = 8;
+#elif defined(__AVX2__)
+#define SHADELAB_SETUP_LANES 256
+constexpr int kSetupLanes = 4;
+#else
+#define SHADELAB_SETUP_LANES 0
+#endif
+
+#if SHADELAB_SETUP_LANES
 enum Fate : std::int32_t { kKept = 0, kCulledLane = 1, kEmptyLane = 2, kOneByOne = 3 };
 
 // kSetupLanes triangles' set-up, one array per field (lane l is triangle l of the group).
@@ -531,6 +544,29 @@ struct SetupLanes {
     std::int32_t min_x[kSetupLanes], max_x[kSetupLanes], min_y[kSetupLanes], max_y[kSetupLanes];
     std::int32_t top_left[kSetupLanes], small_cover[kSetupLanes], front[kSetupLanes], fate[kSetupLanes];
 };
+
+// The gathers' indices: index[k][l] is the first 8-byte word of corner k's record of triangle tris[l].
+static_assert(sizeof(SetupVertex) == 32 && offsetof(SetupVertex, ndc_z) == 16 && offsetof(SetupVertex, code) == 24,
+              "setup_lanes gathers a SetupVertex as four 8-byte words");
+void record_words(const glm::u32vec3* tris, std::int64_t (&index)[3][kSetupLanes]) {
+    for (int l = 0; l < kSetupLanes; ++l)
+        for (int k = 0; k < 3; ++k) index[k][l] = std::int64_t(tris[l][k]) * 4;
+}
+
+// The lanes' snapped corners and boxes (min_x, max_x, min_y, max_y) into `s`, by `store(to, value)` (which writes
+// kSetupLanes 32-bit values from a vector of the instruction set's kind).
+template <class V, class Store>
+void store_corners_and_box(const V (&X)[3], const V (&Y)[3], const V (&box)[4], Store store, SetupLanes& s) {
+    for (int k = 0; k < 3; ++k) {
+        store(s.x[k], X[k]);
+        store(s.y[k], Y[k]);
+    }
+    std::int32_t* const to[4] = {s.min_x, s.max_x, s.min_y, s.max_y};
+    for (int j = 0; j < 4; ++j) store(to[j], box[j]);
+}
+#endif
+
+#if SHADELAB_SETUP_LANES == 512
 
 // Each operation is the scalar one lane by lane: IEEE multiplications, additions, divisions and conversions are
 // exact or correctly rounded in vector and scalar alike; floor(v) (roundscale towards -inf) is what snap's
@@ -554,11 +590,8 @@ struct LaneCorners {
 // The corners of triangles tris[0 .. 7]: their vertex records gathered, the positions snapped (zeros in the lanes
 // outside or left to the one-at-a-time path), oriented clockwise as setup_triangle orients them.
 LaneCorners gather_lanes(const glm::u32vec3* tris, const SetupVertex* vertices) {
-    static_assert(sizeof(SetupVertex) == 32 && offsetof(SetupVertex, ndc_z) == 16 && offsetof(SetupVertex, code) == 24,
-                  "setup_lanes gathers a SetupVertex as four 8-byte words");
     alignas(64) std::int64_t index[3][kSetupLanes];
-    for (int l = 0; l < kSetupLanes; ++l)
-        for (int k = 0; k < 3; ++k) index[k][l] = std::int64_t(tris[l][k]) * 4;   // the record's first 8-byte word
+    record_words(tris, index);
     const double* const words = reinterpret_cast<const double*>(vertices);
     const __m512i zero = _mm512_setzero_si512();
     __m512i I[3];
@@ -659,16 +692,7 @@ __mmask8 lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
     auto store32 = [](std::int32_t* to, __m512i v) {
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(to), _mm512_maskz_cvtepi64_epi32(0xFF, v));
     };
-    store32(s.x[0], X0);
-    store32(s.x[1], X1);
-    store32(s.x[2], X2);
-    store32(s.y[0], Y0);
-    store32(s.y[1], Y1);
-    store32(s.y[2], Y2);
-    store32(s.min_x, min_x);
-    store32(s.max_x, max_x);
-    store32(s.min_y, min_y);
-    store32(s.max_y, max_y);
+    store_corners_and_box(c.X, c.Y, {min_x, max_x, min_y, max_y}, store32, s);
     const __m256i top_left = _mm256_or_si256(_mm256_or_si256(_mm256_maskz_mov_epi32(tl[0], _mm256_set1_epi32(1)),
                                                               _mm256_maskz_mov_epi32(tl[1], _mm256_set1_epi32(2))),
                                              _mm256_maskz_mov_epi32(tl[2], _mm256_set1_epi32(4)));
@@ -706,16 +730,191 @@ void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Fr
     const LaneCorners c = gather_lanes(tris, vertices);
     lane_depth_planes(c, lane_fates(c, f, s), s);
 }
+#elif SHADELAB_SETUP_LANES == 256
+// The same steps in AVX2, four triangles a vector. AVX2 has no 64-bit multiply, minimum, maximum, arithmetic shift,
+// or conversion between 64-bit integers and doubles, and needs none of them here: the snapped positions, their
+// differences, the boxes and the pixel centres fit 32 bits (inside the guard band a snapped coordinate is below
+// 2^28 in magnitude), so they are 32-bit lanes, and only the edge functions and the area, products of two such
+// values, are 64-bit lanes, from _mm256_mul_epi32 (32 x 32 -> 64 bits, signed, exact). Masks are vectors of
+// all-ones lanes, of 32 bits where they select 32-bit values and of 64 bits where they select 64-bit ones.
+static_assert(kSetupLanes == 4, "one AVX2 vector of 64-bit lanes per value");
+inline __m256i wide64(__m128i v) { return _mm256_cvtepi32_epi64(v); }   // 32-bit lanes sign-extended to 64 bits
+inline __m128i narrow_mask(__m256i m) {                                  // a 64-bit lane mask as a 32-bit one
+    return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(m, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
+}
+inline __m256i product64(__m128i a, __m128i b) { return _mm256_mul_epi32(wide64(a), wide64(b)); }
+inline __m128i not32(__m128i m) { return _mm_xor_si128(m, _mm_set1_epi32(-1)); }
+inline __m256i non_negative64(__m256i v) {   // all ones where v >= 0
+    return _mm256_xor_si256(_mm256_cmpgt_epi64(_mm256_setzero_si256(), v), _mm256_set1_epi64x(-1));
+}
+
+// Four triangles' corners as setup_lanes computes with them: snapped positions and NDC depths in screen order
+// (clockwise), twice the signed area before the swap, and setup_mesh_triangle's tests.
+struct LaneCorners {
+    __m128i X[3], Y[3];
+    __m256i area;
+    __m256d Z[3];
+    __m128i outside, one_by_one, front;   // all beyond one plane; needs clipping; front-facing (swapped)
+};
+
+// The corners of triangles tris[0 .. 3], as the AVX-512 gather_lanes.
+LaneCorners gather_lanes(const glm::u32vec3* tris, const SetupVertex* vertices) {
+    alignas(32) std::int64_t index[3][kSetupLanes];
+    record_words(tris, index);
+    const double* const words = reinterpret_cast<const double*>(vertices);
+    const __m128i zero = _mm_setzero_si128(), all = _mm_set1_epi32(-1);
+    const __m256d all_pd = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    __m256i I[3];
+    __m128i code[3];
+    for (int k = 0; k < 3; ++k) {
+        I[k] = _mm256_load_si256(reinterpret_cast<const __m256i*>(index[k]));
+        code[k] = _mm256_mask_i64gather_epi32(zero, reinterpret_cast<const int*>(words + 3),
+                                              _mm256_slli_epi64(I[k], 1), all, 4);
+    }
+    const __m128i all3 = _mm_and_si128(_mm_and_si128(code[0], code[1]), code[2]);
+    const __m128i any3 = _mm_or_si128(_mm_or_si128(code[0], code[1]), code[2]);
+    const __m128i outside = not32(_mm_cmpeq_epi32(_mm_and_si128(all3, _mm_set1_epi32(kFrustumBits)), zero));
+    const __m128i one_by_one = _mm_andnot_si128(
+        outside, not32(_mm_cmpeq_epi32(_mm_and_si128(any3, _mm_set1_epi32(kBehindNear | kOffGuard)), zero)));
+    const __m256d fast = _mm256_castsi256_pd(wide64(not32(_mm_or_si128(outside, one_by_one))));
+    const __m256d sub = _mm256_set1_pd(double(kSub)), half = _mm256_set1_pd(0.5), none = _mm256_setzero_pd();
+    auto snap_v = [&](__m256d p) {
+        return _mm256_cvttpd_epi32(_mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(p, sub), half)));
+    };
+    __m128i X[3], Y[3];
+    __m256d Z[3];
+    for (int k = 0; k < 3; ++k) {
+        X[k] = snap_v(_mm256_mask_i64gather_pd(none, words, I[k], fast, 8));
+        Y[k] = snap_v(_mm256_mask_i64gather_pd(none, words + 1, I[k], fast, 8));
+        Z[k] = _mm256_mask_i64gather_pd(none, words + 2, I[k], all_pd, 8);
+    }
+    const __m256i area = _mm256_sub_epi64(product64(_mm_sub_epi32(X[1], X[0]), _mm_sub_epi32(Y[2], Y[0])),
+                                          product64(_mm_sub_epi32(Y[1], Y[0]), _mm_sub_epi32(X[2], X[0])));
+    const __m256i front = _mm256_cmpgt_epi64(_mm256_setzero_si256(), area);
+    const __m128i front32 = narrow_mask(front);
+    LaneCorners c;
+    c.X[0] = X[0];
+    c.Y[0] = Y[0];
+    c.Z[0] = Z[0];
+    c.X[1] = _mm_blendv_epi8(X[1], X[2], front32);
+    c.X[2] = _mm_blendv_epi8(X[2], X[1], front32);
+    c.Y[1] = _mm_blendv_epi8(Y[1], Y[2], front32);
+    c.Y[2] = _mm_blendv_epi8(Y[2], Y[1], front32);
+    c.Z[1] = _mm256_blendv_pd(Z[1], Z[2], _mm256_castsi256_pd(front));
+    c.Z[2] = _mm256_blendv_pd(Z[2], Z[1], _mm256_castsi256_pd(front));
+    c.area = area;
+    c.outside = outside;
+    c.one_by_one = one_by_one;
+    c.front = front32;
+    return c;
+}
+
+// The pixel centres each lane covers of its box's first 2 x 2 (centres_covered's test; `wide` and `tall` as there),
+// as four 64-bit lane masks c00, c10, c01, c11, and the top-left flags of the three edges (32-bit lane masks).
+struct LaneCover {
+    __m256i c[4];
+    __m128i tl[3];
+};
+LaneCover lane_cover(const LaneCorners& c, __m128i min_x, __m128i min_y, __m128i wide, __m128i tall) {
+    const __m128i zero = _mm_setzero_si128(), centre = _mm_set1_epi32(kSub / 2);
+    const __m128i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2];
+    const __m128i ax[3] = {X1, X2, X0}, ay[3] = {Y1, Y2, Y0};   // edges opposite vertices 0, 1, 2
+    const __m128i dx[3] = {_mm_sub_epi32(X2, X1), _mm_sub_epi32(X0, X2), _mm_sub_epi32(X1, X0)};
+    const __m128i dy[3] = {_mm_sub_epi32(Y2, Y1), _mm_sub_epi32(Y0, Y2), _mm_sub_epi32(Y1, Y0)};
+    const __m128i cx = _mm_add_epi32(_mm_slli_epi32(min_x, kSubBits), centre);
+    const __m128i cy = _mm_add_epi32(_mm_slli_epi32(min_y, kSubBits), centre);
+    const __m256i zero64 = _mm256_setzero_si256(), one64 = _mm256_set1_epi64x(1);
+    LaneCover v{{_mm256_set1_epi64x(-1), wide64(wide), wide64(tall), wide64(_mm_and_si128(wide, tall))}, {}};
+    for (int i = 0; i < 3; ++i) {
+        v.tl[i] = _mm_or_si128(_mm_cmpgt_epi32(zero, dy[i]),
+                               _mm_and_si128(_mm_cmpeq_epi32(dy[i], zero), _mm_cmpgt_epi32(dx[i], zero)));
+        __m256i e = _mm256_sub_epi64(product64(dx[i], _mm_sub_epi32(cy, ay[i])),
+                                     product64(dy[i], _mm_sub_epi32(cx, ax[i])));
+        e = _mm256_sub_epi64(e, _mm256_andnot_si256(wide64(v.tl[i]), one64));
+        const __m256i right = _mm256_slli_epi64(_mm256_sub_epi64(zero64, wide64(dy[i])), kSubBits);   // -dy kSub
+        const __m256i down = _mm256_slli_epi64(wide64(dx[i]), kSubBits);                             // dx kSub
+        v.c[0] = _mm256_and_si256(v.c[0], non_negative64(e));
+        v.c[1] = _mm256_and_si256(v.c[1], non_negative64(_mm256_add_epi64(e, right)));
+        v.c[2] = _mm256_and_si256(v.c[2], non_negative64(_mm256_add_epi64(e, down)));
+        v.c[3] = _mm256_and_si256(v.c[3], non_negative64(_mm256_add_epi64(_mm256_add_epi64(e, right), down)));
+    }
+    return v;
+}
+
+// Box, top-left flags, covered centres and fate of each lane, as the AVX-512 lane_fates, stored into `s`. Returns
+// the kept lanes (a 32-bit lane mask).
+__m128i lane_fates(const LaneCorners& c, const Frame& f, SetupLanes& s) {
+    const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi32(1), centre = _mm_set1_epi32(kSub / 2);
+    const __m128i X0 = c.X[0], X1 = c.X[1], X2 = c.X[2], Y0 = c.Y[0], Y1 = c.Y[1], Y2 = c.Y[2];
+    auto first_pixel = [&](__m128i lo) {   // -floor_sub(-(lo - kSub / 2)), at least 0
+        return _mm_max_epi32(_mm_sub_epi32(zero, _mm_srai_epi32(_mm_sub_epi32(centre, lo), kSubBits)), zero);
+    };
+    auto last_pixel = [&](__m128i hi, int last) {   // floor_sub(hi - kSub / 2), at most last
+        return _mm_min_epi32(_mm_srai_epi32(_mm_sub_epi32(hi, centre), kSubBits), _mm_set1_epi32(last));
+    };
+    const __m128i min_x = first_pixel(_mm_min_epi32(X0, _mm_min_epi32(X1, X2)));
+    const __m128i max_x = last_pixel(_mm_max_epi32(X0, _mm_max_epi32(X1, X2)), f.width - 1);
+    const __m128i min_y = first_pixel(_mm_min_epi32(Y0, _mm_min_epi32(Y1, Y2)));
+    const __m128i max_y = last_pixel(_mm_max_epi32(Y0, _mm_max_epi32(Y1, Y2)), f.height - 1);
+    const __m128i box_empty = _mm_or_si128(_mm_cmpgt_epi32(min_x, max_x), _mm_cmpgt_epi32(min_y, max_y));
+    const __m128i small = _mm_and_si128(not32(_mm_cmpgt_epi32(_mm_sub_epi32(max_x, min_x), one)),
+                                        not32(_mm_cmpgt_epi32(_mm_sub_epi32(max_y, min_y), one)));
+    const LaneCover v = lane_cover(c, min_x, min_y, _mm_cmpgt_epi32(max_x, min_x), _mm_cmpgt_epi32(max_y, min_y));
+    __m128i cover32[4];
+    for (int j = 0; j < 4; ++j) cover32[j] = narrow_mask(v.c[j]);
+    const __m128i covered = _mm_or_si128(_mm_or_si128(cover32[0], cover32[1]), _mm_or_si128(cover32[2], cover32[3]));
+    const __m128i uncovered = _mm_andnot_si128(covered, small);
+    // the lane's fate, in setup_mesh_triangle's and setup_triangle's order of tests (a later line takes precedence)
+    __m128i fate = _mm_and_si128(_mm_or_si128(box_empty, uncovered), _mm_set1_epi32(kEmptyLane));
+    if (f.cull) fate = _mm_blendv_epi8(fate, _mm_set1_epi32(kCulledLane), not32(c.front));
+    fate = _mm_blendv_epi8(fate, _mm_set1_epi32(kEmptyLane),
+                           narrow_mask(_mm256_cmpeq_epi64(c.area, _mm256_setzero_si256())));
+    fate = _mm_blendv_epi8(fate, _mm_set1_epi32(kOneByOne), c.one_by_one);
+    fate = _mm_blendv_epi8(fate, _mm_set1_epi32(kCulledLane), c.outside);
+    auto store = [](std::int32_t* to, __m128i value) { _mm_storeu_si128(reinterpret_cast<__m128i*>(to), value); };
+    auto bit = [](__m128i mask, int b) { return _mm_and_si128(mask, _mm_set1_epi32(b)); };
+    store_corners_and_box(c.X, c.Y, {min_x, max_x, min_y, max_y}, store, s);
+    store(s.top_left, _mm_or_si128(_mm_or_si128(bit(v.tl[0], 1), bit(v.tl[1], 2)), bit(v.tl[2], 4)));
+    const __m128i cover = _mm_or_si128(_mm_or_si128(bit(cover32[0], 1), bit(cover32[1], 2)),
+                                       _mm_or_si128(bit(cover32[2], 4), bit(cover32[3], 8)));
+    store(s.small_cover, _mm_and_si128(small, _mm_or_si128(cover, _mm_set1_epi32(kSmall))));
+    store(s.front, bit(c.front, 1));
+    store(s.fate, fate);
+    return _mm_cmpeq_epi32(fate, _mm_set1_epi32(kKept));
+}
+
+// The depth plane of each lane, as the AVX-512 lane_depth_planes (a lane that is not kept divides by 1).
+void lane_depth_planes(const LaneCorners& c, __m128i kept, SetupLanes& s) {
+    const __m256d inv_sub = _mm256_set1_pd(1.0 / double(kSub));
+    auto pixels = [&](__m128i v) { return _mm256_mul_pd(_mm256_cvtepi32_pd(v), inv_sub); };   // exact
+    const __m256d x0 = pixels(c.X[0]), y0 = pixels(c.Y[0]);
+    const __m256d x1 = _mm256_sub_pd(pixels(c.X[1]), x0), y1 = _mm256_sub_pd(pixels(c.Y[1]), y0);
+    const __m256d x2 = _mm256_sub_pd(pixels(c.X[2]), x0), y2 = _mm256_sub_pd(pixels(c.Y[2]), y0);
+    const __m256d det = _mm256_blendv_pd(_mm256_set1_pd(1.0), _mm256_sub_pd(_mm256_mul_pd(x1, y2), _mm256_mul_pd(x2, y1)),
+                                         _mm256_castsi256_pd(wide64(kept)));
+    const __m256d dz1 = _mm256_sub_pd(c.Z[1], c.Z[0]), dz2 = _mm256_sub_pd(c.Z[2], c.Z[0]);
+    _mm256_storeu_pd(s.dzdx, _mm256_div_pd(_mm256_sub_pd(_mm256_mul_pd(dz1, y2), _mm256_mul_pd(dz2, y1)), det));
+    _mm256_storeu_pd(s.dzdy, _mm256_div_pd(_mm256_sub_pd(_mm256_mul_pd(dz2, x1), _mm256_mul_pd(dz1, x2)), det));
+    _mm256_storeu_pd(s.z0, c.Z[0]);
+}
+
+void setup_lanes(const glm::u32vec3* tris, const SetupVertex* vertices, const Frame& f, SetupLanes& s) {
+    const LaneCorners c = gather_lanes(tris, vertices);
+    lane_depth_planes(c, lane_fates(c, f, s), s);
+}
+#endif
+
+#if SHADELAB_SETUP_LANES
 
 // Mesh triangles [t, t + kSetupLanes) into `out`, in order: setup_lanes' kept triangles as setup_triangle stores
 // them, its culled ones counted, and the ones it leaves to setup_mesh_triangle set up there.
-void setup_group(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* vertices, std::size_t t, const Frame& f,
+void setup_group(const Mesh& mesh, const SetupVertex* vertices, std::size_t t, const Frame& f,
                  Chunk& out) {
     SetupLanes s;
     setup_lanes(&mesh.triangles[t], vertices, f, s);
     for (int l = 0; l < kSetupLanes; ++l) {
         if (s.fate[l] == kOneByOne) {
-            setup_mesh_triangle(mesh, clip, vertices, t + std::size_t(l), f, out);
+            setup_mesh_triangle(mesh, vertices, t + std::size_t(l), f, out);
             continue;
         }
         if (s.fate[l] != kKept) {
@@ -748,20 +947,21 @@ void setup_group(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* ve
     }
 }
 
-// Mesh triangles [b, e) of a chunk, eight at a time, into `out`; returns the first triangle left (fewer than eight).
-std::size_t setup_groups(const Mesh& mesh, const glm::dvec4* clip, const SetupVertex* vertices, std::size_t b,
+// Mesh triangles [b, e) of a chunk, kSetupLanes at a time, into `out`; returns the first triangle left (fewer than
+// kSetupLanes).
+std::size_t setup_groups(const Mesh& mesh, const SetupVertex* vertices, std::size_t b,
                          std::size_t e, const Frame& f, Chunk& out) {
     std::size_t t = b;
     for (; t + kSetupLanes <= e; t += kSetupLanes) {
         for (std::size_t p = t + kSetupAhead; p < std::min(e, t + kSetupAhead + kSetupLanes); ++p)
             prefetch_vertices(mesh.triangles[p], vertices);
-        setup_group(mesh, clip, vertices, t, f, out);
+        setup_group(mesh, vertices, t, f, out);
     }
     return t;
 }
 #else
-// Without AVX-512 no group: every triangle is set up one at a time.
-std::size_t setup_groups(const Mesh&, const glm::dvec4*, const SetupVertex*, std::size_t b, std::size_t, const Frame&,
+// Without AVX-512 or AVX2 no group: every triangle is set up one at a time.
+std::size_t setup_groups(const Mesh&, const SetupVertex*, std::size_t b, std::size_t, const Frame&,
                          Chunk&) {
     return b;
 }
@@ -1203,11 +1403,19 @@ struct Affine {
     double at(double X, double Y) const { return c + cx * X + cy * Y; }
 };
 
+// The values interpolated per corner, in this order: world position, normal, and the barycentric coordinates
+// 1 and 2 in the mesh triangle (coordinate 0 is never stored).
+enum CornerValue { kWorldX, kWorldY, kWorldZ, kNormalX, kNormalY, kNormalZ, kBary1, kBary2, kCornerValues };
+
+// The eight CornerValues of one corner, or one coefficient of their eight sums, as one vector (GCC's vector
+// extension: lane-wise IEEE operations, which the compiler maps to the machine's widest vectors, or to pairs).
+typedef double CornerLanes __attribute__((vector_size(kCornerValues * sizeof(double))));
+
 // A winning triangle's corners, in screen order, with everything interpolation needs.
 struct Corners {
     glm::dvec2 screen[3];
     double inv_w[3];
-    glm::dvec3 world[3], normal[3], bary[3];
+    CornerLanes value[3];   // corner i's CornerValues
     std::int32_t mesh_triangle;
 };
 
@@ -1215,14 +1423,16 @@ struct Corners {
 struct Resolve {
     double x0, y0;                  // first screen corner (the origin of X, Y)
     Affine q;                       // sum_j q_j
-    Affine P[3], N[3], b1, b2;      // sum_i q_i a_i for position, normal, barycentrics 1 and 2
+    CornerLanes c, cx, cy;          // sum_i q_i a_i for each CornerValue a: its affine coefficients, lane by lane
     std::int32_t id;                // set-up triangle id
     std::int32_t mesh_triangle;
     bool degenerate;                // zero screen area (unsnapped): every pixel takes the centroid
+    Affine sum(int v) const { return Affine{c[v], cx[v], cy[v]}; }   // sum_i q_i a_i for CornerValue v
 };
 
-Resolve resolve_of(const Corners& k, std::int32_t id) {
-    Resolve r;
+// Written straight into `r` (a slot of emission's cache): built on the stack and copied, its 64-byte moves read
+// back the scalar stores just made, which the core cannot forward (perf put an eighth of emission's time on them).
+void resolve_into(const Corners& k, std::int32_t id, Resolve& r) {
     r.x0 = k.screen[0].x;
     r.y0 = k.screen[0].y;
     r.id = id;
@@ -1249,13 +1459,12 @@ Resolve resolve_of(const Corners& k, std::int32_t id) {
         return s;
     };
     r.q = weigh([](int) { return 1.0; });
-    for (int c = 0; c < 3; ++c) {
-        r.P[c] = weigh([&](int i) { return k.world[i][c]; });
-        r.N[c] = weigh([&](int i) { return k.normal[i][c]; });
-    }
-    r.b1 = weigh([&](int i) { return k.bary[i].y; });
-    r.b2 = weigh([&](int i) { return k.bary[i].z; });
-    return r;
+    // The eight values' sums as weigh forms them (each starts at 0 and adds its three products in turn; no fused
+    // multiply-adds), in lanes: one at a time they were about two hundred scalar operations for a triangle that, in
+    // a dense mesh, most often wins one pixel.
+    r.c = ((0.0 + qi[0].c * k.value[0]) + qi[1].c * k.value[1]) + qi[2].c * k.value[2];
+    r.cx = ((0.0 + qi[0].cx * k.value[0]) + qi[1].cx * k.value[1]) + qi[2].cx * k.value[2];
+    r.cy = ((0.0 + qi[0].cy * k.value[0]) + qi[1].cy * k.value[1]) + qi[2].cy * k.value[2];
 }
 
 // The fragment arrays' first elements, taken once per frame; triangle, b1 and b2 are null when the frame leaves
@@ -1301,6 +1510,12 @@ const ShadeTri& shade_of(const EmitContext& c, std::size_t chunk, std::int32_t i
     return (*c.chunks)[chunk].shade[std::size_t(id - (*c.first_id)[chunk])];
 }
 
+// (Stored through a reference: a 64-byte vector returned by value has another calling convention with AVX-512
+// than without, which GCC warns of in portable builds.)
+void set_corner_values(const glm::dvec3& world, const glm::dvec3& normal, double bary1, double bary2, CornerLanes& out) {
+    out = CornerLanes{world.x, world.y, world.z, normal.x, normal.y, normal.z, bary1, bary2};
+}
+
 Corners corners_of(const EmitContext& c, std::int32_t id) {
     const std::size_t ci = chunk_of(c, id);
     const Chunk& chunk = (*c.chunks)[ci];
@@ -1309,18 +1524,13 @@ Corners corners_of(const EmitContext& c, std::int32_t id) {
     for (int i = 0; i < 3; ++i) {
         if (s.clip_vertices >= 0) {
             const ClipVertex& v = chunk.clipped[std::size_t(s.clip_vertices + i)];
-            k.world[i] = v.world;
-            k.normal[i] = v.normal;
-            k.bary[i] = v.bary;
+            set_corner_values(v.world, v.normal, v.bary.y, v.bary.z, k.value[i]);
             k.screen[i] = viewport_transform(v.clip, c.width, c.height);   // the same function set-up used
             k.inv_w[i] = 1.0 / v.clip.w;
         } else {
             const int slot = s.swapped && i > 0 ? 3 - i : i;
             const ScreenVertex& v = c.vertices[s.vertex[i]];
-            k.world[i] = v.world;
-            k.normal[i] = v.normal;
-            k.bary[i] = glm::dvec3(0.0);
-            k.bary[i][slot] = 1.0;
+            set_corner_values(v.world, v.normal, slot == 1 ? 1.0 : 0.0, slot == 2 ? 1.0 : 0.0, k.value[i]);
             k.screen[i] = v.screen;
             k.inv_w[i] = v.inv_w;
         }
@@ -1341,9 +1551,9 @@ struct Interpolated {
 Interpolated centroid_values(const Corners& k) {
     const glm::dvec3 q(k.inv_w[0] / 3.0, k.inv_w[1] / 3.0, k.inv_w[2] / 3.0);
     const glm::dvec3 l = q / (q.x + q.y + q.z);
-    return {l.x * k.world[0] + l.y * k.world[1] + l.z * k.world[2],
-            l.x * k.normal[0] + l.y * k.normal[1] + l.z * k.normal[2],
-            l.x * k.bary[0] + l.y * k.bary[1] + l.z * k.bary[2]};
+    auto at = [&](int v) { return l.x * k.value[0][v] + l.y * k.value[1][v] + l.z * k.value[2][v]; };
+    return {{at(kWorldX), at(kWorldY), at(kWorldZ)}, {at(kNormalX), at(kNormalY), at(kNormalZ)},
+            {0.0, at(kBary1), at(kBary2)}};
 }
 
 Interpolated interpolate(const EmitContext& c, const Resolve& r, double X, double Y) {
@@ -1351,10 +1561,10 @@ Interpolated interpolate(const EmitContext& c, const Resolve& r, double X, doubl
     const double inv = 1.0 / s;
     if (r.degenerate || !std::isfinite(inv)) return centroid_values(corners_of(c, r.id));
     Interpolated v;
-    v.P = glm::dvec3(r.P[0].at(X, Y), r.P[1].at(X, Y), r.P[2].at(X, Y)) * inv;
-    v.N = glm::dvec3(r.N[0].at(X, Y), r.N[1].at(X, Y), r.N[2].at(X, Y));
+    v.P = glm::dvec3(r.sum(kWorldX).at(X, Y), r.sum(kWorldY).at(X, Y), r.sum(kWorldZ).at(X, Y)) * inv;
+    v.N = glm::dvec3(r.sum(kNormalX).at(X, Y), r.sum(kNormalY).at(X, Y), r.sum(kNormalZ).at(X, Y));
     if (s < 0.0) v.N = -v.N;   // the normal's direction is that of its numerator over s
-    v.b = glm::dvec3(0.0, r.b1.at(X, Y) * inv, r.b2.at(X, Y) * inv);
+    v.b = glm::dvec3(0.0, r.sum(kBary1).at(X, Y) * inv, r.sum(kBary2).at(X, Y) * inv);
     return v;
 }
 
@@ -1427,11 +1637,13 @@ int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::in
     const __m256d ex = _mm256_set1_pd(c.eye.x), ey = _mm256_set1_pd(c.eye.y), ez = _mm256_set1_pd(c.eye.z);
     const __m256d s = affine_at(r.q, X, Y);
     const __m256d inv = _mm256_div_pd(one, s);
-    const __m256d Px = _mm256_mul_pd(affine_at(r.P[0], X, Y), inv), Py = _mm256_mul_pd(affine_at(r.P[1], X, Y), inv),
-                  Pz = _mm256_mul_pd(affine_at(r.P[2], X, Y), inv);
+    const __m256d Px = _mm256_mul_pd(affine_at(r.sum(kWorldX), X, Y), inv),
+                  Py = _mm256_mul_pd(affine_at(r.sum(kWorldY), X, Y), inv),
+                  Pz = _mm256_mul_pd(affine_at(r.sum(kWorldZ), X, Y), inv);
     const __m256d sign = sign_of(_mm256_cmp_pd(s, zero, _CMP_LT_OQ));
-    __m256d Nx = _mm256_mul_pd(affine_at(r.N[0], X, Y), sign), Ny = _mm256_mul_pd(affine_at(r.N[1], X, Y), sign),
-            Nz = _mm256_mul_pd(affine_at(r.N[2], X, Y), sign);
+    __m256d Nx = _mm256_mul_pd(affine_at(r.sum(kNormalX), X, Y), sign),
+            Ny = _mm256_mul_pd(affine_at(r.sum(kNormalY), X, Y), sign),
+            Nz = _mm256_mul_pd(affine_at(r.sum(kNormalZ), X, Y), sign);
     const __m256d len = _mm256_sqrt_pd(
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(Nx, Nx), _mm256_mul_pd(Ny, Ny)), _mm256_mul_pd(Nz, Nz)));
     const __m256d k = _mm256_div_pd(one, len);
@@ -1456,8 +1668,8 @@ int emit_block_avx(const EmitContext& c, const Resolve& r, double Y_off, std::in
                         _mm256_cvtpd_ps(Ny), _mm256_cvtpd_ps(Nz), _mm256_cvtpd_ps(depth)};
     int arrays = 7;
     if (a.triangle) {   // the barycentrics only where the frame keeps them (RasterOptions::triangle_ids)
-        values[7] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b1, X, Y), inv));
-        values[8] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.b2, X, Y), inv));
+        values[7] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.sum(kBary1), X, Y), inv));
+        values[8] = _mm256_cvtpd_ps(_mm256_mul_pd(affine_at(r.sum(kBary2), X, Y), inv));
         arrays = 9;
     }
     float* const to[9] = {a.px, a.py, a.pz, a.nx, a.ny, a.nz, a.depth, a.b1, a.b2};
@@ -1494,7 +1706,8 @@ RunView run_view(const EmitContext& c, const Resolve& r, int y, std::size_t at) 
     const bool ids = a.triangle != nullptr;   // else b1, b2 and triangle stay null: nothing is stored there
     return RunView{a.px + at, a.py + at, a.pz + at, a.nx + at, a.ny + at, a.nz + at, a.depth + at,
                    ids ? a.b1 + at : nullptr, ids ? a.b2 + at : nullptr, a.pixel + at, ids ? a.triangle + at : nullptr,
-                   r.q, r.P[0], r.P[1], r.P[2], r.N[0], r.N[1], r.N[2], r.b1, r.b2, double(y) + 0.5 - r.y0, r.x0,
+                   r.q, r.sum(kWorldX), r.sum(kWorldY), r.sum(kWorldZ), r.sum(kNormalX), r.sum(kNormalY),
+                   r.sum(kNormalZ), r.sum(kBary1), r.sum(kBary2), double(y) + 0.5 - r.y0, r.x0,
                    c.eye.x, c.eye.y, c.eye.z, c.forward.x, c.forward.y, c.forward.z, c.flip, r.mesh_triangle,
                    std::int32_t(std::size_t(y) * std::size_t(c.width))};
 }
@@ -1652,7 +1865,7 @@ void emit_rows(const EmitContext& c, std::vector<Resolve>& cache, int y_begin, i
                 // (the ids along a row are scattered over the mesh when its order is not spatial).
                 prefetch_ahead(c, cache, owner, e, span.hi);
                 Resolve& r = cache[std::size_t(id) & (kResolveCache - 1)];
-                if (r.id != id) r = resolve_of(corners_of(c, id), id);
+                if (r.id != id) resolve_into(corners_of(c, id), id, r);
                 emit_run(c, r, y, x, e, at, room, fb);
                 at += std::size_t(e - x);
                 x = e;
@@ -1691,7 +1904,6 @@ Scratch& scratch_for(std::size_t pixels, std::size_t rows) {
 // keeps the owners): allocated fresh every frame, the dragon's (~25 MB at 202k triangles) took a page fault per
 // 4 KB, about a tenth of its set-up. Their contents are rewritten by every frame; only the memory is reused.
 struct SetupMemory {
-    std::vector<glm::dvec4> clip;
     std::vector<SetupVertex> vertices;
     std::vector<ScreenVertex> sv;
     std::vector<Chunk> chunks;
@@ -1734,20 +1946,18 @@ std::size_t piece_size(std::size_t count, std::size_t largest) {
 SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
     const std::size_t nv = mesh.positions.size();
     SetupMemory& mem = setup_memory();
-    mem.clip.resize(nv);
     mem.vertices.resize(nv);
     mem.sv.resize(nv);
-    glm::dvec4* const clip = mem.clip.data();
     SetupVertex* const vertices = mem.vertices.data();
     ScreenVertex* const sv = mem.sv.data();
     const std::size_t block_size = piece_size(nv, kVertexBlock);
     const std::size_t chunk_size = piece_size(mesh.triangles.size(), kSetupChunk);
     run_pieces(threads, (nv + block_size - 1) / block_size, [&](std::size_t block) {
         for (std::size_t v = block * block_size, e = std::min(nv, v + block_size); v < e; ++v) {
-            clip[v] = to_clip(f.view_projection, mesh.positions[v]);
-            const glm::dvec2 screen = viewport_transform(clip[v], f.width, f.height);
-            vertices[v] = SetupVertex{screen, ndc_depth(clip[v]), outcode(clip[v], f.guard)};
-            sv[v] = ScreenVertex{screen, 1.0 / clip[v].w, mesh.positions[v], mesh.normals[v]};
+            const glm::dvec4 clip = to_clip(f.view_projection, mesh.positions[v]);
+            const glm::dvec2 screen = viewport_transform(clip, f.width, f.height);
+            vertices[v] = SetupVertex{screen, ndc_depth(clip), outcode(clip, f.guard)};
+            sv[v] = ScreenVertex{screen, 1.0 / clip.w, mesh.positions[v], mesh.normals[v]};
         }
     });
     SetupResult s{sv, mem.chunks, {}};
@@ -1762,9 +1972,9 @@ SetupResult setup_all(const Mesh& mesh, const Frame& f, int threads) {
         const std::size_t b = std::min(nt, i * chunk_size), e = std::min(nt, b + chunk_size);
         chunk.raster.reserve(e - b + 8);
         chunk.shade.reserve(e - b + 8);
-        for (std::size_t t = setup_groups(mesh, clip, vertices, b, e, f, chunk); t < e; ++t) {
+        for (std::size_t t = setup_groups(mesh, vertices, b, e, f, chunk); t < e; ++t) {
             if (t + kSetupAhead < e) prefetch_vertices(mesh.triangles[t + kSetupAhead], vertices);
-            setup_mesh_triangle(mesh, clip, vertices, t, f, chunk);
+            setup_mesh_triangle(mesh, vertices, t, f, chunk);
         }
     });
     s.first_id.assign(s.chunks.size() + 1, 0);
