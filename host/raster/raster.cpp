@@ -8,14 +8,16 @@
 //   viewport_transform  clip -> NDC -> screen pixels (y flipped: row 0 is the top of the image);
 //   setup_triangle      snap to 1/256 pixel, orient, cull, top-left flags, depth plane, bounding box; a box of
 //                       at most 2 x 2 pixels has its centres tested (centres_covered): none, and the triangle is
-//                       dropped; setup_lanes does the same for eight triangles at a time on AVX-512 hosts;
+//                       dropped; setup_lanes does the same for eight triangles at a time on AVX-512 hosts and
+//                       four on AVX2 hosts (tests/raster_isa checks each build against this CPU's);
 //   bin_chunk           each triangle listed in the 128 x 64 pixel tiles its bounding box touches;
 //   raster_tile         per tile: edge functions at pixel centres + depth test (depth_span, a loop without
 //                       branches that vectorises) into the visibility buffer (triangle id per pixel), with
 //                       the tile's depth and owner buffers in cache; draw_small takes a 2 x 2 box's centres
 //                       from set-up instead of edge functions;
 //   emit_rows/emit_run  perspective-correct interpolation once per covered pixel, for the triangle that won
-//                       it (deferred resolve), in pixel order, one run of a triangle's pixels at a time in
+//                       it (deferred resolve: resolve_into sets a triangle's sums up in lanes, once per band
+//                       of rows, in a small cache), in pixel order, one run of a triangle's pixels at a time in
 //                       blocks of kLanes pixels, each block one AVX computation stored straight into the
 //                       fragment arrays (emit_block_avx; without AVX a vectorised loop, emit_lanes); emit_pixel,
 //                       the one-pixel path, takes the rare fallbacks.
