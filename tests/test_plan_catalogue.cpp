@@ -101,12 +101,18 @@ TEST_CASE("planner catalogue search: two materials get their own substitutes, ea
     std::cout << format_substitutions(p, o);
     REQUIRE(p.items.size() == 2);
     CHECK(p.within);
-    CHECK(p.items[0].chosen.model != "minnaert_1941");   // far cheaper kernels reproduce Lambert within 1
-    CHECK(p.items[0].error <= o.tolerance);
-    CHECK(p.items[1].chosen.model != "oren_nayar");
-    CHECK(p.items[1].error <= o.tolerance);
-    CHECK(p.speedup > 1.0);
-    CHECK(p.items[1].chosen.model != p.items[0].chosen.model);
+    // Whether a fitted model becomes a substitute is decided by timing: it must shade its mesh 5% faster at full
+    // resolution, and here a mesh shades in about 0.01 ms, mostly the launch, so that reruns came out either way
+    // (Oren-Nayar kept in some; at 1024 x 512, tried instead, even Minnaert k = 1 was kept once, against Lambert).
+    // What the search guarantees is checked whatever the timing said: a substitute was fitted, is
+    // within the tolerance, measured at least 1 / 0.95 times faster, and (below) within the tolerance when
+    // recomputed here, alone and with the other.
+    for (const auto& it : p.items) {
+        CHECK(it.error <= o.tolerance);
+        if (it.chosen.model == it.requested.model) continue;
+        CHECK(it.tried >= 1);
+        CHECK(it.model_speedup > 1.0 / 0.95);
+    }
     std::vector<Material> chosen;
     for (const auto& it : p.items) chosen.push_back(it.chosen);
     const double de = recomputed_de_max(in, chosen);
@@ -132,13 +138,21 @@ TEST_CASE("make_plan with the catalogue: per-mesh substitutes are chosen, combin
     std::cout << format_plan(p, o);
     REQUIRE(p.catalogue_searched);
     REQUIRE(p.materials.size() == 2);
-    // Both meshes have a cheaper substitute within 1 (the catalogue-only test above shows each alone), so the
-    // cheapest configuration uses them, and the two meshes end up with different models.
-    CHECK(p.chosen.config.catalogue);
-    CHECK(p.materials[0].model != "minnaert_1941");
-    CHECK(p.materials[1].model != "oren_nayar");
-    CHECK(p.materials[0].model != p.materials[1].model);
-    CHECK(p.chosen.speedup > 1.0);
+    // Which substitutes the search keeps, and which configuration is cheapest, are measured (the test above says
+    // why that is noise at this size; a clean-clone CI run chose the requested models in fast mode, 1.31x, over
+    // the substitutes, 1.35x): so the choice is checked against the planner's rule on the times it measured (the
+    // cheapest within the tolerance, unless the one before it is not 5% dearer), and the chosen configuration's
+    // models against the materials the plan applies.
+    CHECK(p.chosen.within);
+    CHECK(p.chosen.speedup >= 1.0);
+    for (const auto& c : p.candidates)
+        if (c.within) CHECK(c.time_ms >= 0.95 * p.chosen.time_ms);
+    for (std::size_t k = 0; k < 2; ++k) {
+        const std::string expected = p.chosen.config.catalogue           ? p.catalogue.items[k].chosen.model
+                                     : p.chosen.config.simplify_to_lambert ? std::string("lambert")
+                                                                           : in.items[k].material.model;
+        CHECK(p.materials[k].model == expected);
+    }
     CHECK(p.planning_ms > 0.0);
     // Every verified candidate that uses the catalogue is within the tolerance when recomputed here at full size
     // (its precision applied), not only the chosen one.
@@ -154,7 +168,9 @@ TEST_CASE("make_plan with the catalogue: per-mesh substitutes are chosen, combin
         CHECK(de <= o.tolerance);
         ++recomputed;
     }
-    CHECK(recomputed >= 1);
+    bool any_substitute = false;
+    for (const auto& it : p.catalogue.items) any_substitute = any_substitute || it.chosen.model != it.requested.model;
+    if (any_substitute) CHECK(recomputed >= 1);
     // Without the catalogue the old planner's choice is reachable: no catalogue candidate at all.
     PlanOptions old = o;
     old.catalogue = false;
