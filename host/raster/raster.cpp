@@ -1235,6 +1235,22 @@ inline std::int32_t depth_span_row(double* d, std::int32_t* o, int tile_x0, int 
 }
 #endif
 
+// Row y's covered pixels [xs, xe] of triangle `t` (set-up id `tid`; (x0, y0) its first corner in pixels), inside
+// the tile of `buf`: their depth test, as one narrow span (at most 16 pixels) or in blocks of 16, and the row's span
+// widened to them. The depth at a pixel centre comes from (x, y) alone (never accumulated along the row), so it
+// does not depend on where a tile starts.
+inline void cover_row(const RasterTri& t, double x0, double y0, int y, int xs, int xe, bool narrow, std::int32_t tid,
+                      TileBuffer& buf) {
+    const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
+    double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
+    std::int32_t* const o = buf.tile_owner + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
+    RowSpan& span = buf.rows[y - buf.y0];
+    span.covered += narrow ? depth_span_narrow(d, o, buf.x0, xs, xe, zy, t.dzdx, x0, tid)
+                           : depth_span_row(d, o, buf.x0, xs, xe, zy, t.dzdx, x0, tid);
+    span.lo = std::min(span.lo, xs);
+    span.hi = std::max(span.hi, xe + 1);
+}
+
 // Draws a triangle of at most 2 x 2 pixels (set-up id `tid`) into the tile of `buf` from the centres set-up found
 // it covers (RasterTri::small_cover): draw_triangle's narrow rows, each row's covered pixels (inside the tile) as
 // one depth_span_narrow with the same depth, without draw_triangle's edge functions.
@@ -1247,13 +1263,7 @@ void draw_small(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
         const unsigned bits = (unsigned(t.small_cover) >> (2 * (y - int(t.min_y)))) & columns & 3u;
         if (bits == 0) continue;
         const int xs = int(t.min_x) + ((bits & 1u) ? 0 : 1), xe = int(t.min_x) + ((bits & 2u) ? 1 : 0);
-        const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
-        double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
-        std::int32_t* const o = buf.tile_owner + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
-        RowSpan& span = buf.rows[y - buf.y0];
-        span.covered += depth_span_narrow(d, o, buf.x0, xs, xe, zy, t.dzdx, x0, tid);
-        span.lo = std::min(span.lo, xs);
-        span.hi = std::max(span.hi, xe + 1);
+        cover_row(t, x0, y0, y, xs, xe, true, tid, buf);
     }
 }
 
@@ -1285,7 +1295,6 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
     const double x0 = double(t.x[0]) / double(kSub), y0 = double(t.y[0]) / double(kSub);
     const std::int64_t n = std::int64_t(max_x) - min_x + 1;
     const std::int64_t cx = std::int64_t(min_x) * kSub + kSub / 2;
-    const double dzdx = t.dzdx;
     // The edge functions at the first pixel of row ya, then exact integer steps of dx * kSub per row.
     const std::int64_t cy = std::int64_t(ya) * kSub + kSub / 2;
     std::int64_t row_e0 = dx[0] * (cy - ay[0]) - dy[0] * (cx - ax[0]) - bias[0];
@@ -1293,31 +1302,19 @@ void draw_triangle(const RasterTri& t, std::int32_t tid, TileBuffer& buf) {
     std::int64_t row_e2 = dx[2] * (cy - ay[2]) - dy[2] * (cx - ax[2]) - bias[2];
     const std::int64_t down0 = dx[0] * kSub, down1 = dx[1] * kSub, down2 = dx[2] * kSub;
     for (int y = ya; y <= yb; ++y, row_e0 += down0, row_e1 += down1, row_e2 += down2) {
-        // Depth at the pixel centre, from (x, y) alone (never accumulated along the row), so it does not
-        // depend on where a tile starts.
-        const double zy = t.z0 + t.dzdy * (double(y) + 0.5 - y0);
-        double* const d = buf.depth + std::size_t(y - buf.y0) * std::size_t(kTileW);
-        std::int32_t* const o = buf.tile_owner + std::size_t(y - buf.y0) * std::size_t(kTileW) - buf.x0;
-        RowSpan& span = buf.rows[y - buf.y0];
         if (n < kSpanMinWidth) {
             // Each pixel's edge test, as one bit; the covered pixels are the bits' one interval (see
             // narrow_row_mask), drawn as one span.
             const std::uint32_t bits = narrow_row_bits(row_e0, row_e1, row_e2, step0, step1, step2, int(n));
             if (bits == 0) continue;
-            const int xs = min_x + __builtin_ctz(bits), xe = min_x + 31 - __builtin_clz(bits);
-            span.covered += depth_span_narrow(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
-            span.lo = std::min(span.lo, xs);
-            span.hi = std::max(span.hi, xe + 1);
+            cover_row(t, x0, y0, y, min_x + __builtin_ctz(bits), min_x + 31 - __builtin_clz(bits), true, tid, buf);
         } else {
             std::int64_t first = 0, last = n - 1;
             edge_span(row_e0, step0, n, first, last);
             edge_span(row_e1, step1, n, first, last);
             edge_span(row_e2, step2, n, first, last);
             if (first > last) continue;
-            const int xs = min_x + int(first), xe = min_x + int(last);
-            span.covered += depth_span_row(d, o, buf.x0, xs, xe, zy, dzdx, x0, tid);
-            span.lo = std::min(span.lo, xs);
-            span.hi = std::max(span.hi, xe + 1);
+            cover_row(t, x0, y0, y, min_x + int(first), min_x + int(last), false, tid, buf);
         }
     }
 }
