@@ -4,6 +4,8 @@
 //   builds:   the whole catalogue's programs (every model, precise and fast, one light) built and run once on a
 //             tiny fragment buffer, each case in a fresh process: PoCL's kernel cache cold or warm, shadelab's
 //             program-binary cache off, cold or warm;
+//   start-up: fresh `shadelab` processes (--version, a small render), and the render with OpenImageIO and GDAL
+//             preloaded, as when the program linked them (host/image/image_io.hpp); --startup-only runs it alone;
 //   meshes:   OpenMesh's readers (the full loader, cache off) on the bundled meshes against the mesh cache's miss
 //             (which stores the entry) and hit, best of N; --meshes-only runs this table alone.
 // A benchmark, not a test: --smoke runs a tiny size so the suite checks it still works.
@@ -16,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -147,6 +150,56 @@ void bench_writes(Runtime& rt, const Mesh& mesh, int w, int h, int reps, const f
                     best_theirs / best_ours, double(fs::file_size(ours)) / 1e6,
                     best_ours <= best_theirs ? "" : "(shadelab slower)");
     }
+}
+
+// --- process start-up: what a command costs before and around its work ------------------------------------------
+// `shadelab --version` and a small render (spot, 512x512, PNG) as fresh processes, best and median of N wall
+// times; and the same render with OpenImageIO and GDAL preloaded (LD_PRELOAD, the libraries the image plug-in
+// links): what every process paid while the program linked them (host/image/image_io.hpp), timed alternately.
+std::string plugin_libraries(const fs::path& plugin) {
+    std::string libs, line;
+    std::istringstream ldd(run_capture("ldd '" + plugin.string() + "' 2>&1"));
+    while (std::getline(ldd, line)) {
+        const auto arrow = line.find("=> ");
+        if (arrow == std::string::npos) continue;
+        const std::string path = line.substr(arrow + 3, line.find(" (", arrow) - arrow - 3);
+        if (path.find("libOpenImageIO.so") != std::string::npos || path.find("libgdal.so") != std::string::npos)
+            libs += (libs.empty() ? "" : " ") + path;
+    }
+    return libs;
+}
+
+void bench_startup(const std::string& self, const fs::path& tmp, int reps) {
+    const fs::path dir = fs::path(self).parent_path(), bin = dir / "shadelab", plugin = dir / "libshadelab_imageio.so";
+    if (!fs::exists(bin) || !fs::exists(plugin)) {
+        std::printf("\n== process start-up: skipped (no shadelab or libshadelab_imageio.so beside this program)\n");
+        return;
+    }
+    const std::string preload = plugin_libraries(plugin);
+    const std::string render = "'" + bin.string() + "' -q render '" + std::string(SHADELAB_SOURCE_DIR) +
+                               "/meshes/spot.obj' --size 512x512 -o '" + (tmp / "startup.png").string() + "' > /dev/null";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"shadelab --version", "'" + bin.string() + "' --version > /dev/null"},
+        {"shadelab render spot 512x512 -o .png", render},
+        {"  the same, OpenImageIO and GDAL preloaded", "LD_PRELOAD='" + preload + "' " + render}};
+    std::vector<std::vector<double>> ms(cases.size());
+    for (int r = 0; r < std::max(reps, 5); ++r)
+        for (std::size_t c = 0; c < cases.size(); ++c) {
+            const auto t0 = clock_type::now();
+            run_capture(cases[c].second);
+            ms[c].push_back(ms_since(t0));
+        }
+    std::printf("\n== process start-up: fresh processes, wall time, %zu runs each, alternated (preloaded: %s)\n",
+                ms[0].size(), preload.empty() ? "nothing found" : preload.c_str());
+    std::printf("%-46s %10s %10s\n", "command", "best ms", "median ms");
+    for (std::size_t c = 0; c < cases.size(); ++c) {
+        std::vector<double> v = ms[c];
+        std::sort(v.begin(), v.end());
+        std::printf("%-46s %10.1f %10.1f\n", cases[c].first.c_str(), v.front(), v[v.size() / 2]);
+    }
+    std::sort(ms[1].begin(), ms[1].end());
+    std::sort(ms[2].begin(), ms[2].end());
+    std::printf("render with the libraries preloaded / without: %.2fx (medians)\n", ms[2][ms[2].size() / 2] / ms[1][ms[1].size() / 2]);
 }
 
 // --- program builds: each case in a fresh process (PoCL reads its cache settings at start-up) ---------------
@@ -281,7 +334,8 @@ void bench_meshes(const std::vector<std::string>& meshes, int reps, const fs::pa
 }  // namespace
 
 int main(int argc, char** argv) {
-    bool smoke = false, child = false, no_planning = false, contact_only = false, meshes_only = false, writes_only = false;
+    bool smoke = false, child = false, no_planning = false, contact_only = false, meshes_only = false, writes_only = false,
+         startup_only = false;
     std::string child_plan_scene, child_contact_out;
     int contact_shared = 1, contact_reps = 2;
     std::vector<std::string> plan_scenes = {std::string(SHADELAB_SOURCE_DIR) + "/scenes/materials.json",
@@ -303,6 +357,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-planning", no_planning, "Skip the planning rows");
     app.add_flag("--meshes-only", meshes_only, "Only the mesh-loading table");
     app.add_flag("--writes-only", writes_only, "Only the image-write table");
+    app.add_flag("--startup-only", startup_only, "Only the process start-up table");
     app.add_option("--child-plan", child_plan_scene, "(internal) plan this scene once and print the times");
     app.add_option("--child-contact", child_contact_out, "(internal) write the contact sheet here once, print the times");
     app.add_option("--contact-shared", contact_shared, "(internal) with --child-contact: 1 shared program, 0 per model")
@@ -332,6 +387,11 @@ int main(int argc, char** argv) {
         std::printf("machine: %u hardware threads, %s\n", std::thread::hardware_concurrency(), bench::cpu_name().c_str());
         std::printf("at the start, %s\n", bench::core_probe().line().c_str());
         const std::string self = fs::canonical("/proc/self/exe").string();
+        if (startup_only) {
+            bench_startup(self, tmp, reps);
+            fs::remove_all(tmp);
+            return 0;
+        }
         if (contact_only) {
             bench::bench_contact(run_capture, self, tmp, std::max(1, contact_reps));
             fs::remove_all(tmp);
@@ -345,6 +405,7 @@ int main(int argc, char** argv) {
                 fs::remove_all(tmp);
                 return 0;
             }
+            bench_startup(self, tmp, reps);
             bench_builds(self, tmp, build_models);
             if (!smoke && contact_reps > 0) bench::bench_contact(run_capture, self, tmp, contact_reps);
             if (!smoke && !no_planning) bench::bench_planning(run_capture, self, tmp, plan_scenes);

@@ -12,6 +12,8 @@ PACKAGES=(
   libopenmesh-dev libopenimageio-dev openimageio-tools libglm-dev
   # EXR headers checked before OpenImageIO opens them (OpenEXR core C library)
   libopenexr-dev
+  # PNG written without OpenImageIO, which the image plug-in loads only when needed (host/image/png_writer.hpp)
+  libpng-dev zlib1g-dev
   # planetary data: FITS (cfitsio) and ISIS3 cubes, PDS3/PDS4, GeoTIFF (GDAL)
   libcfitsio-dev libgdal-dev
   # command line, JSON, tests

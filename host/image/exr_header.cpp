@@ -4,10 +4,10 @@
 #include <filesystem>
 
 #include <OpenEXR/openexr.h>
-#include <OpenImageIO/imageio.h>
 
 #include "core/error.hpp"
 #include "core/limits.hpp"
+#include "image/image_io.hpp"
 
 namespace shadelab {
 
@@ -27,13 +27,9 @@ struct ExrContext {
 int stored_bytes(exr_pixel_type_t t) { return t == EXR_PIXEL_HALF ? 2 : 4; }   // UINT and FLOAT are 4
 
 // OpenEXR's C++ reader keeps max(1, 2 x its global thread count) line or tile buffers (ScanLineInputFile,
-// TiledInputFile); OpenImageIO sets that count from its "exr_threads" attribute (0: its "threads", -1: none).
-int decode_buffers() {
-    int threads = 0;
-    OIIO::getattribute("exr_threads", threads);
-    if (threads == 0) OIIO::getattribute("threads", threads);
-    return std::max(1, 2 * std::max(threads, 0));
-}
+// TiledInputFile); OpenImageIO sets that count from its "exr_threads" attribute (0: its "threads", -1: none),
+// and reads the file (in the image plug-in, image/image_io.hpp) after this check.
+int decode_buffers() { return std::max(1, 2 * std::max(image_io::plugin().exr_threads(), 0)); }
 
 }  // namespace
 

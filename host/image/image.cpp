@@ -7,11 +7,12 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <thread>
+#include <utility>
 
-#include <OpenImageIO/imageio.h>
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -21,7 +22,10 @@
 #include "core/format.hpp"
 #include "core/limits.hpp"
 #include "image/exr_header.hpp"
+#include "image/exr_writer.hpp"
 #include "image/fits.hpp"
+#include "image/image_io.hpp"
+#include "image/png_writer.hpp"
 #include "image/raster.hpp"
 #include "raster/big_buffer.hpp"
 #include "raster/parallel.hpp"
@@ -304,14 +308,21 @@ Encoding encoding_for(const std::string& path) {
 
 namespace {
 
-// The 8-bit image written block by block of rows: a second thread codes block k + 1 while OpenImageIO
+// Where write_srgb8_pipelined sends its rows: OpenImageIO's writer (the image plug-in) or libpng's
+// (image/png_writer.hpp). `abandon` is called before a refusal: it leaves the file so that its library has
+// nothing to complain about on the terminal (libpng prints "No IDATs written" for a PNG abandoned half-way
+// through OpenImageIO), after which the temporary file is removed.
+struct Rows8Sink {
+    std::function<bool(int y0, int y1, const unsigned char* rows)> write;
+    std::function<void()> abandon;
+};
+
+// The 8-bit image written block by block of rows: a second thread codes block k + 1 while the writer
 // compresses block k (PNG's deflate runs on one thread), so the coding costs almost no wall time on a
 // machine with a free core, instead of a whole pass over the float image before the first byte is written.
 // NaN and Inf are counted while coding: the first block holding one stops the write with write_image's
-// refusal (the temporary file is then removed), so no separate pass over the float image is needed. The
-// rows left are written as zeros first and the file closed, so that the library has nothing to complain
-// about on the terminal (libpng prints "No IDATs written" for a PNG abandoned half-way).
-bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::string& path) {
+// refusal (the temporary file is then removed), so no separate pass over the float image is needed.
+bool write_srgb8_pipelined(const Rows8Sink& sink, const Image& img, const std::string& path) {
     const Srgb8Table& table = srgb8_table();
     const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
     const int block = std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row)));   // ~1 MB
@@ -328,10 +339,7 @@ bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::
     bool ok = true;
     for (int k = 0; k < blocks && ok; ++k) {
         if (bad[k % 2]) {
-            std::fill(buf[0].begin(), buf[0].end(), 0);
-            for (int y = k * block; y < img.height; y += block)
-                out.write_scanlines(y, std::min(img.height, y + block), 0, OIIO::TypeDesc::UINT8, buf[0].data());
-            out.close();
+            sink.abandon();
             refuse_non_finite(path, count_non_finite(img));
         }
         std::thread next;
@@ -342,41 +350,69 @@ bool write_srgb8_pipelined(OIIO::ImageOutput& out, const Image& img, const std::
             }
         }
         const int y0 = k * block, y1 = std::min(img.height, y0 + block);
-        ok = out.write_scanlines(y0, y1, 0, OIIO::TypeDesc::UINT8, buf[k % 2].data());
+        ok = sink.write(y0, y1, buf[k % 2].data());
         if (next.joinable()) next.join();
         else if (k + 1 < blocks) code(k + 1);
     }
     return ok;
 }
 
-// Encodes `img` into `file` with OpenImageIO (8-bit sRGB or linear float, as `enc` says). Returns false with
-// OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s format.
+// Encodes `img` into `file` with OpenImageIO, in the image plug-in (8-bit sRGB or linear float, as `enc` says).
+// Returns false with OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s
+// format.
 bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc,
                      const ImageWriteOptions& options, std::string& why) {
-    auto out = OIIO::ImageOutput::create(file);
-    if (!out) throw Error("cannot write '" + path + "': " + OIIO::geterror());
-    OIIO::ImageSpec spec(img.width, img.height, img.channels,
-                         enc == Encoding::Srgb8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT);
-    if (img.channels == 4) spec.alpha_channel = 3;
-    spec.attribute("oiio:ColorSpace", enc == Encoding::Srgb8 ? "sRGB" : "Linear");
-    spec.attribute("Software", "shadelab");
-    // Colours are stored unassociated (straight) with alpha = coverage; tell the 8-bit writers not to
-    // divide by alpha (EXR keeps OpenImageIO's associated convention; covered pixels have alpha 1 anyway).
-    if (enc == Encoding::Srgb8) spec.attribute("oiio:UnassociatedAlpha", 1);
-    spec.attribute("png:compressionLevel", std::clamp(options.png_level, 0, 9));
-    spec.attribute("png:filter", std::clamp(options.png_filter, 0, 248));
-    if (std::string(out->format_name()) == "openexr") spec.attribute("compression", options.exr_compression);
-
-    bool ok = out->open(file, spec);
-    if (ok) {
+    const image_io::Plugin& io = image_io::plugin();
+    image_io::WriteSpec spec;
+    spec.width = img.width;
+    spec.height = img.height;
+    spec.channels = img.channels;
+    spec.srgb8 = enc == Encoding::Srgb8;
+    spec.png_level = options.png_level;
+    spec.png_filter = options.png_filter;
+    spec.exr_compression = options.exr_compression;
+    bool no_format = false;
+    image_io::Writer* out = io.writer_open(file, spec, why, no_format);
+    if (no_format) throw Error("cannot write '" + path + "': " + why);
+    if (!out) return false;   // the file could not be created: write_file_atomically says why and what to do
+    bool ok = true;
+    try {
         if (enc == Encoding::Srgb8) {
-            ok = write_srgb8_pipelined(*out, img, path);
+            int written = 0;   // rows [0, written) are in the file
+            const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) {
+                                     written = y1;
+                                     return io.writer_rows8(out, y0, y1, rows);
+                                 },
+                                 [&] {
+                                     // the rows left as zeros, and the file closed (see Rows8Sink)
+                                     const std::vector<unsigned char> zeros(std::size_t(img.width) * std::size_t(img.channels), 0);
+                                     for (int y = written; y < img.height; ++y) io.writer_rows8(out, y, y + 1, zeros.data());
+                                     std::string ignored;
+                                     io.writer_close(std::exchange(out, nullptr), ignored);
+                                 }};
+            ok = write_srgb8_pipelined(sink, img, path);
         } else {
-            ok = out->write_image(OIIO::TypeDesc::FLOAT, img.pixels.data());
+            ok = io.writer_float(out, img.pixels.data());
         }
-        ok = out->close() && ok;
+    } catch (...) {
+        std::string ignored;
+        if (out) io.writer_close(out, ignored);
+        throw;
     }
-    if (!ok) why = out->geterror();
+    std::string close_why;
+    const bool closed = io.writer_close(out, close_why);
+    if (!ok || !closed) why = close_why;
+    return ok && closed;
+}
+
+// The PNG through libpng itself (image/png_writer.hpp), with write_srgb8_pipelined's coding.
+bool write_png_direct(const std::string& file, const std::string& path, const Image& img, const ImageWriteOptions& options,
+                      std::string& why) {
+    PngWriter png(file, img.width, img.height, img.channels, options.png_level, options.png_filter);
+    const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) { return png.rows(y0, y1, rows); },
+                         [&] { png.abandon(); }};
+    const bool ok = png.ok() && write_srgb8_pipelined(sink, img, path) && png.finish();
+    if (!ok) why = png.error();
     return ok;
 }
 
@@ -396,9 +432,17 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
     }
     // Float formats are checked first, in a pass of its own; 8-bit ones while coding (write_srgb8_pipelined).
     if (enc != Encoding::Srgb8) refuse_non_finite(path, count_non_finite(img));
-    // The temporary file keeps the extension: OpenImageIO picks the format from it.
+    // PNG and EXR, what render and batch write, without the image plug-in (image/image_io.hpp says why); the
+    // temporary file keeps the extension: OpenImageIO picks the format from it.
+    const bool direct_png = ext == ".png" && img.channels >= 1 && img.channels <= 4;
+    const bool direct_exr = ext == ".exr" && exr_direct(options.exr_compression, img.channels);
     write_file_atomically(
-        path, "image", [&](const std::string& tmp, std::string& why) { return write_with_oiio(tmp, path, img, enc, options, why); },
+        path, "image",
+        [&](const std::string& tmp, std::string& why) {
+            if (direct_png) return write_png_direct(tmp, path, img, options, why);
+            if (direct_exr) return write_exr(tmp, img, options.exr_compression, why);
+            return write_with_oiio(tmp, path, img, enc, options, why);
+        },
         fs::path(path).extension().string());
 }
 
@@ -411,27 +455,12 @@ bool is_exr_file(const std::string& path) {
     return in.read(magic, 4) && magic[0] == 0x76 && magic[1] == 0x2f && magic[2] == 0x31 && magic[3] == 0x01;
 }
 
-// The image in its stored formats, converted here channel by channel to float. Never ask OpenImageIO
-// 2.4 for the conversion: its read_scanlines then allocates a native buffer of max(256, 64 MB / row)
-// rows whatever the image's height (ImageInput::read_scanlines, "oiio_read_chunk"), so a 6-row EXR
-// 2097160 pixels wide cost 3.2 GB there. A native read goes straight into our buffer.
-bool read_as_float(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, std::vector<float>& out) {
-    const std::size_t w = std::size_t(spec.width), h = std::size_t(spec.height), n = std::size_t(spec.nchannels);
-    const std::size_t pixel_bytes = spec.pixel_bytes(true);
-    std::vector<unsigned char> raw(w * h * pixel_bytes);
-    if (!in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeUnknown, raw.data())) return false;
-    std::size_t offset = 0;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const OIIO::TypeDesc t = spec.channelformat(c);
-        if (!OIIO::convert_image(1, spec.width, spec.height, 1, raw.data() + offset, t, OIIO::stride_t(pixel_bytes),
-                                 OIIO::stride_t(w * pixel_bytes), OIIO::AutoStride, out.data() + c, OIIO::TypeFloat,
-                                 OIIO::stride_t(n * sizeof(float)), OIIO::stride_t(w * n * sizeof(float)),
-                                 OIIO::AutoStride))
-            return false;
-        offset += t.size();
-    }
-    return true;
-}
+// An open file of the image plug-in, closed when it goes out of scope.
+struct OpenReader {
+    const image_io::Plugin& io;
+    image_io::Reader* r;
+    ~OpenReader() { io.reader_close(r); }
+};
 
 }  // namespace
 
@@ -442,12 +471,12 @@ Image read_image(const std::string& path) {
     if (!fs::exists(path, ec)) throw Error("image '" + path + "' not found: check the path");
     // An EXR header sizes OpenEXR's decode buffers, which are allocated when the file is opened: check it first.
     if (is_exr_file(path)) check_exr_header(path);
-    // Keep straight alpha as stored (PNG): do not premultiply on read.
-    OIIO::ImageSpec config;
-    config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path, &config);
-    if (!in) throw Error("cannot read image '" + path + "': " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
+    const image_io::Plugin& io = image_io::plugin();
+    std::string why;
+    image_io::Reader* opened = io.reader_open(path, why);   // straight alpha kept as stored (PNG)
+    if (!opened) throw Error("cannot read image '" + path + "': " + why);
+    const OpenReader in{io, opened};
+    const image_io::Info spec = io.reader_info(in.r);
     // The header's size is checked before the pixels are allocated: a header of a few bytes may ask for
     // gigabytes. Deflate (PNG) packs at most 1032:1, so a PNG smaller than its raw pixels / 1032 cannot
     // hold them; for every format the float image and its native copy must fit in the memory limit.
@@ -458,45 +487,31 @@ Image read_image(const std::string& path) {
     if (spec.depth != 1 || spec.deep)
         throw Error("image '" + path + "' is a " + (spec.deep ? std::string("deep") : "volume (depth " + std::to_string(spec.depth) + ")") +
                     " image, which shadelab does not read: flatten it to a 2D image first");
-    const double raw = double(spec.width) * double(spec.height) * double(spec.pixel_bytes(true));
+    const double raw = double(spec.width) * double(spec.height) * double(spec.native_pixel_bytes);
     std::error_code size_ec;
     const auto file_bytes = fs::file_size(path, size_ec);
-    if (!size_ec && std::string(in->format_name()) == "png" && double(file_bytes) * 1032.0 < raw)
+    if (!size_ec && spec.format_name == "png" && double(file_bytes) * 1032.0 < raw)
         throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims + " (" + format_bytes(raw) +
                     " of pixels), which a " + format_bytes(double(file_bytes)) + " PNG cannot hold");
-    const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
-    const double tile = tiled ? double(spec.tile_width) * double(spec.tile_height) * double(std::max(spec.tile_depth, 1)) *
-                                    double(spec.nchannels) * 4.0
-                              : 0.0;
+    const double tile = spec.tiled ? double(spec.tile_width) * double(spec.tile_height) * double(std::max(spec.tile_depth, 1)) *
+                                         double(spec.nchannels) * 4.0
+                                   : 0.0;
     check_memory("image '" + path + "' (" + dims + ")",
                  double(spec.width) * double(spec.height) * double(spec.nchannels) * 4.0 + raw + tile);
     // A format with random access (EXR, TIFF) shows whether the file holds its last row (or tile) before
     // the whole image is allocated: a truncated file is refused for the cost of one row.
-    if (std::string(in->format_name()) == "openexr" || std::string(in->format_name()) == "tiff") {
-        const int last_y = spec.y + spec.height - 1;
-        std::vector<float> probe(tiled ? std::size_t(tile / 4.0) : std::size_t(spec.width) * std::size_t(spec.nchannels));
-        const bool ok = tiled ? in->read_tile(spec.x + (spec.width - 1) / spec.tile_width * spec.tile_width,
-                                              spec.y + (spec.height - 1) / spec.tile_height * spec.tile_height, spec.z,
-                                              OIIO::TypeDesc::FLOAT, probe.data())
-                              : in->read_scanline(last_y, spec.z, OIIO::TypeDesc::FLOAT, probe.data());
-        if (!ok)
-            throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims +
-                        " but its last row cannot be read (" + in->geterror() + ")");
-    }
+    if ((spec.format_name == "openexr" || spec.format_name == "tiff") && !io.reader_probe_last(in.r, why))
+        throw Error("image '" + path + "' is truncated or corrupt: its header says " + dims +
+                    " but its last row cannot be read (" + why + ")");
     Image img(spec.width, spec.height, spec.nchannels);
-    if (!read_as_float(*in, spec, img.pixels)) {
-        const std::string why = in->geterror();
-        throw Error("cannot decode image '" + path + "': " + why);
-    }
-    const std::string cs = spec.get_string_attribute("oiio:ColorSpace");
-    const bool srgb = cs == "sRGB" || (cs.empty() && spec.format.size() == 1);
+    if (!io.reader_read_float(in.r, img.pixels.data(), why)) throw Error("cannot decode image '" + path + "': " + why);
+    const bool srgb = spec.color_space == "sRGB" || (spec.color_space.empty() && spec.format_bytes == 1);
     if (srgb) {
         for (std::size_t i = 0; i < img.pixels.size(); ++i) {
             const bool alpha = spec.alpha_channel >= 0 && int(i % std::size_t(spec.nchannels)) == spec.alpha_channel;
             if (!alpha) img.pixels[i] = float(srgb_decode(img.pixels[i]));
         }
     }
-    in->close();
     return img;
 }
 

@@ -1,4 +1,6 @@
-// Images: linear float RGBA in memory; written and read with OpenImageIO.
+// Images: linear float RGBA in memory; PNG written with libpng (image/png_writer.hpp), EXR with OpenEXR
+// (image/exr_writer.hpp), FITS with cfitsio (image/fits.hpp), every other format written and read with
+// OpenImageIO in the image plug-in (image/image_io.hpp).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -63,7 +65,8 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
 // The formats write_image takes, for --help texts and errors: one list, so no command's help can drift from it.
 constexpr const char* kOutputFormats = ".png .jpg .bmp .tga .webp (sRGB 8-bit) or .exr .hdr .tif .fits (linear float)";
 
-// Reads any format OpenImageIO reads (FITS by image/fits.hpp); 8-bit sRGB-encoded formats are decoded to linear.
+// Reads any format OpenImageIO reads (FITS by image/fits.hpp, planetary rasters by image/raster.hpp), in the image
+// plug-in; 8-bit sRGB-encoded formats are decoded to linear.
 Image read_image(const std::string& path);
 
 }  // namespace shadelab

@@ -11,6 +11,7 @@
 // SAMPLE_BITS is refused (GDAL would guess). No viewing geometry is read from the labels. tests/test_pds.cpp.
 #pragma once
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "image/image.hpp"
@@ -21,10 +22,16 @@ namespace shadelab {
 // .tif / .tiff only when a band is named in brackets (plain .tif goes to OpenImageIO as before).
 bool is_gdal_path(const std::string& path);
 
-// "cube.cub[phase]" -> {"cube.cub", "phase"}; no brackets -> {path, ""}.
-std::pair<std::string, std::string> split_band(const std::string& path);
+// "cube.cub[phase]" -> {"cube.cub", "phase"}; no brackets -> {path, ""}. (Inline: the image plug-in uses it too.)
+inline std::pair<std::string, std::string> split_band(const std::string& path) {
+    if (!path.empty() && path.back() == ']') {
+        const auto open = path.rfind('[');
+        if (open != std::string::npos && open > 0) return {path.substr(0, open), path.substr(open + 1, path.size() - open - 2)};
+    }
+    return {path, ""};
+}
 
-// One band as a grey image (2 channels: value, alpha). Throws one line for a missing file, a file GDAL cannot
+// One band as a grey image (2 channels: value, alpha), through the image plug-in (image/image_io.hpp). Throws one line for a missing file, a file GDAL cannot
 // open, and a band that is not there (naming the bands the file has).
 Image read_raster_band(const std::string& path);
 

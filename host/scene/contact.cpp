@@ -12,13 +12,12 @@
 #include <iostream>
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
 
 #include "core/atomic_file.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "image/image.hpp"
+#include "image/image_io.hpp"
 #include "core/assets.hpp"
 #include "mesh/mesh.hpp"
 #include "pipeline/pipeline.hpp"
@@ -122,30 +121,30 @@ std::string find_label_font() {
 
 namespace {
 
-// Labels: OpenImageIO's render_text (FreeType) with a system TrueType font, centred under each tile.
+// Labels: OpenImageIO's render_text (FreeType, in the image plug-in: image/image_io.hpp) with a system
+// TrueType font, centred under each tile.
 void draw_labels(Image& sheet, const std::vector<std::string>& labels, int cols, int tile_w, int tile_h, int cell,
                  int label_h, ContactResult& res, std::ostream& log) {
     res.font = find_label_font();
     if (res.font.empty()) return;
-    OIIO::ImageBuf buf(OIIO::ImageSpec(res.width, res.height, 4, OIIO::TypeDesc::FLOAT), sheet.pixels.data());
+    const image_io::Plugin& io = image_io::plugin();
     const float white[4] = {0.9f, 0.9f, 0.9f, 1.0f};
     bool ok = true;
+    std::string why;
     for (std::size_t i = 0; i < labels.size() && ok; ++i) {
         const int cx = (int(i) % cols) * tile_w + tile_w / 2;
         const int cy = (int(i) / cols) * tile_h + cell + label_h / 2;
         // The largest size up to the strip's height at which the name fits the tile's width.
         int size = std::max(8, label_h - 8);
         while (size > 8) {
-            const OIIO::ROI box = OIIO::ImageBufAlgo::text_size(labels[i], size, res.font);
-            if (!box.defined() || box.width() <= tile_w - 8) break;
+            int width = 0;
+            if (!io.text_width(labels[i], size, res.font, width) || width <= tile_w - 8) break;
             --size;
         }
-        ok = OIIO::ImageBufAlgo::render_text(buf, cx, cy, labels[i], size, res.font, OIIO::cspan<float>(white, 4),
-                                             OIIO::ImageBufAlgo::TextAlignX::Center,
-                                             OIIO::ImageBufAlgo::TextAlignY::Center);
+        ok = io.render_text(sheet.pixels.data(), res.width, res.height, cx, cy, labels[i], size, res.font, white, why);
     }
     res.labelled = ok;
-    if (!ok) log << "contact sheet: could not render labels with '" << res.font << "': " << buf.geterror() << "\n";
+    if (!ok) log << "contact sheet: could not render labels with '" << res.font << "': " << why << "\n";
 }
 
 // No usable font: the names go to a legend file beside the image, tile by tile.

@@ -38,6 +38,12 @@ g++ "$here/consumer/main.cpp" $flags -Wl,-rpath,"$libdir" -o "$tmp/consumer-pc"
 (cd "$tmp" && "$prefix/bin/shadelab" --version)
 (cd "$tmp" && env -u SHADELAB_KERNELS "$prefix/bin/shadelab" devices) | grep -q "^kernels: *$real_prefix/share/shadelab/kernels" \
     || { echo "FAIL: the installed shadelab did not read its kernels from the prefix"; exit 1; }
+# ... and finds the image plug-in of the prefix (OpenImageIO reads the PNG back; host/image/image_io.hpp)
+(cd "$tmp" && "$prefix/bin/shadelab" -q render "$mesh" --size 32x24 -o "$tmp/i.png" > /dev/null &&
+    LD_DEBUG=files "$prefix/bin/shadelab" compare "$tmp/i.png" "$tmp/i.png" 2> "$tmp/plugin.log" > /dev/null) \
+    || { echo "FAIL: the installed shadelab could not read back the PNG it wrote"; exit 1; }
+grep -q "file=$real_prefix/lib.*/shadelab/libshadelab_imageio.so" "$tmp/plugin.log" \
+    || { echo "FAIL: the installed shadelab did not load the prefix's image plug-in"; exit 1; }
 if [ $# -ge 2 ]; then
     site="$(ls -d "$prefix"/lib*/python3/dist-packages | head -1)"
     (cd "$tmp" && env -u SHADELAB_KERNELS PYTHONPATH="$site" "$2" -c '
