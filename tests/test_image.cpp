@@ -292,22 +292,20 @@ std::string file_bytes(const fs::path& p) {
     return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// The PNG OpenImageIO 2.4 writes for the same codes and settings, through the image plug-in's writer.
-void write_png_with_oiio(const fs::path& file, const Image& img, const ImageWriteOptions& o) {
+// The file OpenImageIO 2.4 writes for the same pixels and settings, through the image plug-in's writer: 8-bit
+// sRGB codes (PNG) or floats (EXR).
+void write_with_oiio(const fs::path& file, const Image& img, bool srgb8, const ImageWriteOptions& o) {
     const image_io::Plugin& io = image_io::plugin();
-    image_io::WriteSpec spec;
-    spec.width = img.width;
-    spec.height = img.height;
-    spec.channels = img.channels;
-    spec.srgb8 = true;
-    spec.png_level = o.png_level;
-    spec.png_filter = o.png_filter;
     std::string why;
     bool no_format = false;
-    image_io::Writer* w = io.writer_open(file.string(), spec, why, no_format);
+    image_io::Writer* w = io.writer_open(file.string(), image_io::write_spec(img, srgb8, o), why, no_format);
     REQUIRE(w != nullptr);
-    const std::vector<unsigned char> codes = encode_srgb8(img);
-    REQUIRE(io.writer_rows8(w, 0, img.height, codes.data()));
+    if (srgb8) {
+        const std::vector<unsigned char> codes = encode_srgb8(img);
+        REQUIRE(io.writer_rows8(w, 0, img.height, codes.data()));
+    } else {
+        REQUIRE(io.writer_float(w, img.pixels.data()));
+    }
     REQUIRE(io.writer_close(w, why));
 }
 
@@ -329,7 +327,7 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
             for (int x = 0; x < img.width; ++x) img.at(x, 5, 0) = 0.0f;   // a run of zeros (the background)
             const fs::path ours = dir / "ours.png", theirs = dir / "theirs.png";
             write_image(ours.string(), img, o);
-            write_png_with_oiio(theirs, img, o);
+            write_with_oiio(theirs, img, true, o);
             const std::string a = file_bytes(ours), b = file_bytes(theirs);
             INFO("channels " << channels << ", zlib level " << o.png_level << ", filter " << o.png_filter);
             REQUIRE(a.size() > 100);
@@ -342,28 +340,12 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
     Image big(1500, 700, 4);
     for (float& v : big.pixels) v = u(rng);
     write_image((dir / "big.png").string(), big);
-    write_png_with_oiio(dir / "big_oiio.png", big, defaults);
+    write_with_oiio(dir / "big_oiio.png", big, true, defaults);
     CHECK(file_bytes(dir / "big.png") == file_bytes(dir / "big_oiio.png"));
     fs::remove_all(dir);
 }
 
 namespace {
-
-// The same EXR from OpenImageIO's writer, through the image plug-in.
-void write_exr_with_oiio(const fs::path& file, const Image& img, const std::string& compression) {
-    const image_io::Plugin& io = image_io::plugin();
-    image_io::WriteSpec spec;
-    spec.width = img.width;
-    spec.height = img.height;
-    spec.channels = img.channels;
-    spec.exr_compression = compression;
-    std::string why;
-    bool no_format = false;
-    image_io::Writer* w = io.writer_open(file.string(), spec, why, no_format);
-    REQUIRE(w != nullptr);
-    REQUIRE(io.writer_float(w, img.pixels.data()));
-    REQUIRE(io.writer_close(w, why));
-}
 
 // The file with the value of its capDate attribute (the second it was written) blanked.
 std::string without_capture_date(std::string bytes) {
@@ -395,7 +377,7 @@ TEST_CASE("EXR by OpenEXR equals OpenImageIO's file but for the capture date, 1-
             ImageWriteOptions o;
             o.exr_compression = compression;
             write_image((dir / "ours.exr").string(), img, o);
-            write_exr_with_oiio(dir / "theirs.exr", img, compression);
+            write_with_oiio(dir / "theirs.exr", img, false, o);
             INFO("compression " << compression << ", channels " << channels);
             const std::string a = without_capture_date(file_bytes(dir / "ours.exr"));
             const std::string b = without_capture_date(file_bytes(dir / "theirs.exr"));

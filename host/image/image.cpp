@@ -363,16 +363,8 @@ bool write_srgb8_pipelined(const Rows8Sink& sink, const Image& img, const std::s
 bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc,
                      const ImageWriteOptions& options, std::string& why) {
     const image_io::Plugin& io = image_io::plugin();
-    image_io::WriteSpec spec;
-    spec.width = img.width;
-    spec.height = img.height;
-    spec.channels = img.channels;
-    spec.srgb8 = enc == Encoding::Srgb8;
-    spec.png_level = options.png_level;
-    spec.png_filter = options.png_filter;
-    spec.exr_compression = options.exr_compression;
     bool no_format = false;
-    image_io::Writer* out = io.writer_open(file, spec, why, no_format);
+    image_io::Writer* out = io.writer_open(file, image_io::write_spec(img, enc == Encoding::Srgb8, options), why, no_format);
     if (no_format) throw Error("cannot write '" + path + "': " + why);
     if (!out) return false;   // the file could not be created: write_file_atomically says why and what to do
     bool ok = true;

@@ -49,6 +49,19 @@ struct WriteSpec {
     std::string exr_compression;
 };
 
+// The WriteSpec of `img` under `options`.
+inline WriteSpec write_spec(const Image& img, bool srgb8, const ImageWriteOptions& options) {
+    WriteSpec spec;
+    spec.width = img.width;
+    spec.height = img.height;
+    spec.channels = img.channels;
+    spec.srgb8 = srgb8;
+    spec.png_level = options.png_level;
+    spec.png_filter = options.png_filter;
+    spec.exr_compression = options.exr_compression;
+    return spec;
+}
+
 struct Reader;   // an open image file
 struct Writer;   // an image file being written
 

@@ -96,6 +96,10 @@ void check_pds3_image_label(GDALDataset* ds, const std::string& shown) {
                         " (how the samples are stored, e.g. SAMPLE_TYPE = PC_REAL, SAMPLE_BITS = 32): add it to the label");
 }
 
+}  // namespace
+
+namespace gdal {
+
 std::vector<std::string> raster_band_names(const std::string& file) {
     auto ds = open_raster(file, file);
     std::vector<std::string> out;
@@ -164,11 +168,6 @@ Image read_raster_band(const std::string& path) {
     return img;
 }
 
-}  // namespace
-
-void fill_gdal(Plugin& p) {
-    p.read_raster_band = &read_raster_band;
-    p.raster_band_names = &raster_band_names;
-}
+}  // namespace gdal
 
 }  // namespace shadelab::image_io

@@ -19,7 +19,7 @@ struct Reader {
     std::unique_ptr<OIIO::ImageInput> in;
 };
 
-namespace {
+namespace oiio {
 
 Writer* writer_open(const std::string& file, const WriteSpec& w, std::string& why, bool& no_format) {
     auto out = OIIO::ImageOutput::create(file);
@@ -71,25 +71,9 @@ Reader* reader_open(const std::string& path, std::string& why) {
 
 Info reader_info(const Reader* r) {
     const OIIO::ImageSpec& s = r->in->spec();
-    Info i;
-    i.width = s.width;
-    i.height = s.height;
-    i.nchannels = s.nchannels;
-    i.depth = s.depth;
-    i.deep = s.deep;
-    i.tiled = s.tile_width > 0 && s.tile_height > 0;
-    i.x = s.x;
-    i.y = s.y;
-    i.z = s.z;
-    i.tile_width = s.tile_width;
-    i.tile_height = s.tile_height;
-    i.tile_depth = s.tile_depth;
-    i.native_pixel_bytes = s.pixel_bytes(true);
-    i.format_bytes = s.format.size();
-    i.alpha_channel = s.alpha_channel;
-    i.format_name = r->in->format_name();
-    i.color_space = s.get_string_attribute("oiio:ColorSpace");
-    return i;
+    return Info{s.width, s.height, s.nchannels, s.depth, s.deep, s.tile_width > 0 && s.tile_height > 0, s.x, s.y, s.z,
+                s.tile_width, s.tile_height, s.tile_depth, s.pixel_bytes(true), s.format.size(), s.alpha_channel,
+                r->in->format_name(), s.get_string_attribute("oiio:ColorSpace")};
 }
 
 bool reader_probe_last(Reader* r, std::string& why) {
@@ -160,21 +144,6 @@ bool render_text(float* rgba, int width, int height, int cx, int cy, const std::
     return ok;
 }
 
-}  // namespace
-
-void fill_oiio(Plugin& p) {
-    p.writer_open = &writer_open;
-    p.writer_rows8 = &writer_rows8;
-    p.writer_float = &writer_float;
-    p.writer_close = &writer_close;
-    p.reader_open = &reader_open;
-    p.reader_info = &reader_info;
-    p.reader_probe_last = &reader_probe_last;
-    p.reader_read_float = &reader_read_float;
-    p.reader_close = &reader_close;
-    p.exr_threads = &exr_threads;
-    p.text_width = &text_width;
-    p.render_text = &render_text;
-}
+}  // namespace oiio
 
 }  // namespace shadelab::image_io

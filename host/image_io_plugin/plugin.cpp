@@ -14,13 +14,21 @@ const Host& host() { return *g_host; }
 extern "C" __attribute__((visibility("default"))) const shadelab::image_io::Plugin* shadelab_image_io_plugin(
     const shadelab::image_io::Host* host) {
     using namespace shadelab::image_io;
-    static Plugin table = [] {
-        Plugin p{};
-        p.abi = kAbi;
-        fill_oiio(p);
-        fill_gdal(p);
-        return p;
-    }();
+    static const Plugin table{kAbi,
+                              &oiio::writer_open,
+                              &oiio::writer_rows8,
+                              &oiio::writer_float,
+                              &oiio::writer_close,
+                              &oiio::reader_open,
+                              &oiio::reader_info,
+                              &oiio::reader_probe_last,
+                              &oiio::reader_read_float,
+                              &oiio::reader_close,
+                              &oiio::exr_threads,
+                              &oiio::text_width,
+                              &oiio::render_text,
+                              &gdal::read_raster_band,
+                              &gdal::raster_band_names};
     g_host = host;
     return &table;
 }
