@@ -449,6 +449,20 @@ def process_writes(t):
     return "\n".join(out)
 
 
+def process_startup(t):
+    lines = section(t, "process start-up")
+    rows = matched_rows(lines, r"^(shadelab .+?|  the same, .+?)\s+([\d.]+)\s+([\d.]+)$")
+    ratio = next((re.search(r"([\d.]+)x \(medians\)", l) for l in lines if l.startswith("render with the libraries")), None)
+    if not rows or not ratio:
+        return "Process start-up: not measured in this run (`bench_e2e_process --startup-only` measures it alone)."
+    runs = re.search(r"wall time, (\d+) runs each", lines[0])
+    header = [f"fresh processes, {runs.group(1) if runs else '?'} runs each, alternated", "best", "median"]
+    out = markdown_table(header, [[r.group(1).strip(), f"{r.group(2)} ms", f"{r.group(3)} ms"] for r in rows])
+    out += ["", f"- The render with OpenImageIO and GDAL preloaded, as when the program linked them, took "
+            f"**{ratio.group(1)}x** the time of the render without them (medians)."]
+    return "\n".join(out)
+
+
 def process_builds(t):
     lines = section(t, "program builds")
     rows = [re.match(r"^(.+?)\s+(\d+)ms\s+(\d+)ms\s+(\d+)\s+(\d+)\s+([\d.]+)x the cold run", l) for l in lines]
@@ -597,6 +611,7 @@ BLOCKS = {
     "e2e_targets": ("e2e", lambda d, r: e2e_targets(E2e(d))),
     "process_writes": ("process", lambda d, r: process_writes(read_text(os.path.join(d, "bench_e2e_process.txt")))),
     "process_builds": ("process", lambda d, r: process_builds(read_text(os.path.join(d, "bench_e2e_process.txt")))),
+    "process_startup": ("process", lambda d, r: process_startup(read_text(os.path.join(d, "bench_e2e_process.txt")))),
     "process_batch": ("process", process_batch),
     "process_contact": ("process", lambda d, r: process_contact(read_text(os.path.join(d, "bench_e2e_process.txt")))),
     "process_planning": ("process", lambda d, r: process_planning(read_text(os.path.join(d, "bench_e2e_process.txt")))),
