@@ -192,14 +192,13 @@ void bench_startup(const std::string& self, const fs::path& tmp, int reps) {
     std::printf("\n== process start-up: fresh processes, wall time, %zu runs each, alternated (preloaded: %s)\n",
                 ms[0].size(), preload.empty() ? "nothing found" : preload.c_str());
     std::printf("%-46s %10s %10s\n", "command", "best ms", "median ms");
+    std::vector<double> median(cases.size());
     for (std::size_t c = 0; c < cases.size(); ++c) {
-        std::vector<double> v = ms[c];
-        std::sort(v.begin(), v.end());
-        std::printf("%-46s %10.1f %10.1f\n", cases[c].first.c_str(), v.front(), v[v.size() / 2]);
+        std::sort(ms[c].begin(), ms[c].end());
+        median[c] = ms[c][ms[c].size() / 2];
+        std::printf("%-46s %10.1f %10.1f\n", cases[c].first.c_str(), ms[c].front(), median[c]);
     }
-    std::sort(ms[1].begin(), ms[1].end());
-    std::sort(ms[2].begin(), ms[2].end());
-    std::printf("render with the libraries preloaded / without: %.2fx (medians)\n", ms[2][ms[2].size() / 2] / ms[1][ms[1].size() / 2]);
+    std::printf("render with the libraries preloaded / without: %.2fx (medians)\n", median[2] / median[1]);
 }
 
 // --- program builds: each case in a fresh process (PoCL reads its cache settings at start-up) ---------------

@@ -3,7 +3,6 @@
 #include <dlfcn.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
@@ -16,8 +15,6 @@ namespace fs = std::filesystem;
 namespace shadelab::image_io {
 
 namespace {
-
-std::atomic<bool> g_loaded{false};
 
 // The folder of the file this code was loaded from: the program, libshadelab.so or the Python module.
 fs::path own_folder() {
@@ -79,13 +76,8 @@ const Plugin* load() {
 const Plugin& plugin() {
     static std::once_flag once;
     static const Plugin* p = nullptr;
-    std::call_once(once, [] {
-        p = load();
-        g_loaded = true;
-    });
+    std::call_once(once, [] { p = load(); });
     return *p;
 }
-
-bool loaded() { return g_loaded; }
 
 }  // namespace shadelab::image_io

@@ -101,7 +101,4 @@ constexpr const char* kFileName = "libshadelab_imageio.so";
 // an install puts it in relative to that (../, ../lib*/shadelab/, ../../shadelab/).
 const Plugin& plugin();
 
-// Whether the plug-in has been loaded in this process (tests: writing a PNG must not load it).
-bool loaded();
-
 }  // namespace shadelab::image_io

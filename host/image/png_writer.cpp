@@ -24,10 +24,14 @@ void on_error(png_structp png, png_const_charp msg) {
 }
 void on_warning(png_structp, png_const_charp) {}   // nothing on the terminal: errors are reported by shadelab
 
+// f() with libpng's error caught: false, and its message in `error`, when libpng reported one.
 template <class F>
-bool guarded(png_structp png, const F& f) {
+bool guarded(png_structp png, std::string& error, const F& f) {
     auto* j = static_cast<Jump*>(png_get_error_ptr(png));
-    if (setjmp(j->env) != 0) return false;
+    if (setjmp(j->env) != 0) {
+        error = j->message;
+        return false;
+    }
     f();
     return true;
 }
@@ -60,7 +64,7 @@ PngWriter::PngWriter(const std::string& file, int width, int height, int channel
         error_ = "libpng could not start a PNG";
         return;
     }
-    const bool ok = guarded(png, [&] {
+    guarded(png, error_, [&] {
         png_init_io(png, file_);
         png_set_compression_level(png, zlib_level < 0 ? 0 : (zlib_level > 9 ? 9 : zlib_level));
         png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);   // as OpenImageIO sets it (libpng's own: Z_FILTERED)
@@ -80,7 +84,6 @@ PngWriter::PngWriter(const std::string& file, int width, int height, int channel
         png_set_text(png, info, text, 2);
         png_write_info(png, info);
     });
-    if (!ok) error_ = jump->message;
 }
 
 PngWriter::~PngWriter() { close(); }
@@ -93,7 +96,7 @@ bool PngWriter::rows(int y0, int y1, const unsigned char* data) {
     for (std::size_t i = 0; i < pointers.size(); ++i) pointers[i] = const_cast<png_bytep>(data + i * row);
     png_bytepp rows = pointers.data();
     const png_uint_32 n = png_uint_32(pointers.size());
-    if (!guarded(png, [&] { png_write_rows(png, rows, n); })) error_ = static_cast<Jump*>(png_get_error_ptr(png))->message;
+    guarded(png, error_, [&] { png_write_rows(png, rows, n); });
     return ok();
 }
 
@@ -101,7 +104,7 @@ bool PngWriter::finish() {
     if (ok()) {
         auto* png = static_cast<png_structp>(png_);
         auto* info = static_cast<png_infop>(info_);
-        if (!guarded(png, [&] { png_write_end(png, info); })) error_ = static_cast<Jump*>(png_get_error_ptr(png))->message;
+        guarded(png, error_, [&] { png_write_end(png, info); });
     }
     std::FILE* f = file_;
     file_ = nullptr;
