@@ -212,11 +212,13 @@ SL_INLINE float sl_after(float x, float dep) { return fma(0.0f, dep, x); }
 #if SL_LANES % 16 == 0
 #define SL_STORE_LINE 16
 #define SL_STORE_VEC float16
-#define SL_STORE_VSTORE vstore16
+typedef float sl_float16_u __attribute__((ext_vector_type(16), aligned(4)));   // a float16 at any float's address
+#define SL_STORE_VEC_U sl_float16_u
 #elif SL_LANES % 8 == 0
 #define SL_STORE_LINE 8
 #define SL_STORE_VEC float8
-#define SL_STORE_VSTORE vstore8
+typedef float sl_float8_u __attribute__((ext_vector_type(8), aligned(4)));
+#define SL_STORE_VEC_U sl_float8_u
 #endif
 #define SL_STREAM_PLANE(c) (1u << (c))   // the bit of output plane c (0 r, 1 g, 2 b) in `stream`
 #ifdef SL_STORE_LINE
@@ -227,7 +229,12 @@ SL_INLINE void sl_store_block(__global float* restrict dst, const float* restric
     if (streamed) {
         for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) __builtin_nontemporal_store(from[j], line + j);
     } else {
-        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) SL_STORE_VSTORE(from[j], j, dst);
+        // unrolled, through a vector type of a float's alignment: vstore8 / vstore16 in a loop of two were kept as
+        // a loop that reloaded the block from the stack and stored it in 16-byte pieces (objdump, AVX2 code), 47
+        // of lambert's 113 loop instructions at two chains; this is one unaligned vector store a vector
+        // (docs/speed.md#plain-store-path)
+#pragma unroll
+        for (uint j = 0; j < SL_FRAGS_PER_ITEM / SL_STORE_LINE; ++j) *((__global SL_STORE_VEC_U*)dst + j) = from[j];
     }
 }
 #else

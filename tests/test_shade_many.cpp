@@ -440,6 +440,12 @@ TEST_CASE("shade: streaming stores give plain stores' pixels, bit for bit, for e
             INFO("model " << info.name);
             CHECK(Shader::streams_output(info, big) == !info.plain_stores);
             CHECK_FALSE(Shader::streams_output(info, 1 << 20));
+            // a work-item's block of whole 64-byte lines (16 or 32 floats) streams; 8 floats (half a line) or
+            // one does not
+            CHECK(Shader::streams_output(info, big, 16) == !info.plain_stores);
+            CHECK(Shader::streams_output(info, big, 32) == !info.plain_stores);
+            CHECK_FALSE(Shader::streams_output(info, big, 8));
+            CHECK_FALSE(Shader::streams_output(info, big, 1));
             plain_models += info.plain_stores ? 1 : 0;
         }
         CHECK(find_model("hapke_leg").plain_stores);
@@ -447,6 +453,7 @@ TEST_CASE("shade: streaming stores give plain stores' pixels, bit for bit, for e
         CHECK(plain_models < model_catalogue().size() / 2);
         test::ScopedEnv on("SHADELAB_STREAM_STORES", "1");
         CHECK(Shader::streams_output(find_model("hapke_leg"), 1));
+        CHECK(Shader::streams_output(find_model("lambert"), 1, 8));   // the variable sets half-line blocks' too
     }
     test::ScopedEnv env("SHADELAB_STREAM_STORES", "yes");
     CHECK_THROWS_WITH(Shader::streams_output(1), Catch::Contains("SHADELAB_STREAM_STORES is 'yes'") &&

@@ -126,6 +126,14 @@ std::string plain_store_models() {
     return models_where([](const ModelInfo& info) { return info.plain_stores; });
 }
 
+// The models whose work-items write less than a whole 64-byte line of a plane on a device of this width, and so
+// keep plain stores past the threshold (Shader::streams_output(info, n, per_item)).
+std::string half_line_models(std::size_t width) {
+    return models_where([width](const ModelInfo& info) {
+        return !info.plain_stores && Shader::frags_per_item(info, width) * sizeof(float) % Shader::kLineBytes != 0;
+    });
+}
+
 }  // namespace
 
 void require_model_name(const std::string& name, const std::string& option) {
@@ -181,7 +189,9 @@ void add_devices_command(CLI::App& app) {
                                           std::to_string(Shader::kStreamOutputBytes >> 20) + " MB (" +
                                           std::to_string((Shader::kStreamOutputBytes + 11) / 12) +
                                           " fragments), plain below and for " + plain_store_models() +
-                                          " (measured slower streamed)")
+                                          " (measured slower streamed) and " +
+                                          half_line_models(rt.vector_width()) +
+                                          " (a work-item's block is part of a line on this device)")
                   << " (SHADELAB_STREAM_STORES=0 or 1 sets every launch's)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });

@@ -274,6 +274,11 @@ bool Shader::streams_output(const ModelInfo& info, std::size_t n) {
     return info.plain_stores ? streams_output(0) : streams_output(n);
 }
 
+bool Shader::streams_output(const ModelInfo& info, std::size_t n, std::size_t per_item) {
+    // a work-item's block of a plane short of a whole 64-byte line: plain stores unless the variable says 1
+    return per_item * sizeof(float) % kLineBytes == 0 ? streams_output(info, n) : streams_output(info, 0);
+}
+
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
     const std::size_t lanes = lanes_for(info.normals_only, device_width);
     return lanes > 1 ? lanes * chains_for(info) : 1;   // kernels/common.cl: no second chain at one lane
@@ -472,7 +477,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     // sl_store_block, streams aligned blocks only); the `head` before it goes into the rest launch. The body
     // runs to the last fragment (one launch for a frame that is not streamed: a second launch, its padded copies
     // and its map took 0.05 ms of a 0.2 ms shading step at 512 x 512, bench_e2e).
-    const bool stream = streams_output(info, n);
+    const bool stream = streams_output(info, n, per_item);
     const std::size_t head = stream ? fragments_to_line(out.data(), n) : 0;
     const std::size_t body = n - head >= per_item ? n - head : 0, tail = n - head - body;
     const std::size_t rest_n = round_up(head + tail, group);

@@ -100,6 +100,14 @@ public:
     // The same for a launch of `info`'s kernel: plain stores at every size for a model with
     // ModelInfo::plain_stores (streaming measured slower for it), unless SHADELAB_STREAM_STORES sets it.
     static bool streams_output(const ModelInfo& info, std::size_t n);
+    // The same for a launch whose work-items shade `per_item` fragments each: plain stores (unless
+    // SHADELAB_STREAM_STORES sets it) where a work-item's block of a plane is not a whole number of 64-byte lines
+    // (8 lanes at one chain, an AVX2 host's one-chain models: 32 bytes). Each line is then written by two
+    // work-items' non-temporal stores, half each, and that measured slower than plain stores on an AMD Zen 3
+    // (minnaert_1941 at one chain, 16M fragments: 173-189 Mfrag/s streamed, 246-249 plain; docs/speed.md,
+    // "Half lines").
+    static constexpr std::size_t kLineBytes = 64;
+    static bool streams_output(const ModelInfo& info, std::size_t n, std::size_t per_item);
 
     // The model alone for direction triples: N, L, V, P are xyz-interleaved (3n floats each);
     // returns rgb interleaved (3n floats). Used by the kernel-vs-reference sweeps.
