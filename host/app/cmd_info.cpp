@@ -130,7 +130,7 @@ std::string plain_store_models() {
 // keep plain stores past the threshold (Shader::streams_output(info, n, per_item)).
 std::string half_line_models(std::size_t width) {
     return models_where([width](const ModelInfo& info) {
-        return !info.plain_stores && Shader::frags_per_item(info, width) * sizeof(float) % Shader::kLineBytes != 0;
+        return !info.plain_stores && !info.normals_only && Shader::frags_per_item(info, width) * sizeof(float) % Shader::kLineBytes != 0;
     });
 }
 

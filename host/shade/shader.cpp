@@ -275,8 +275,10 @@ bool Shader::streams_output(const ModelInfo& info, std::size_t n) {
 }
 
 bool Shader::streams_output(const ModelInfo& info, std::size_t n, std::size_t per_item) {
-    // a work-item's block of a plane short of a whole 64-byte line: plain stores unless the variable says 1
-    return per_item * sizeof(float) % kLineBytes == 0 ? streams_output(info, n) : streams_output(info, 0);
+    // a work-item's block of a plane short of a whole 64-byte line: plain stores unless the variable says 1, or the
+    // model reads N and L only (at memory speed, where plain stores' write-allocate read cost more than half lines)
+    const bool whole_lines = per_item * sizeof(float) % kLineBytes == 0;
+    return whole_lines || info.normals_only ? streams_output(info, n) : streams_output(info, 0);
 }
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {

@@ -102,7 +102,8 @@ public:
     static bool streams_output(const ModelInfo& info, std::size_t n);
     // The same for a launch whose work-items shade `per_item` fragments each: plain stores (unless
     // SHADELAB_STREAM_STORES sets it) where a work-item's block of a plane is not a whole number of 64-byte lines
-    // (8 lanes at one chain, an AVX2 host's one-chain models: 32 bytes). Each line is then written by two
+    // (8 lanes at one chain, an AVX2 host's one-chain models: 32 bytes), except for the models of N and L only
+    // (half_lambert lost 0.82-0.94x with plain stores: it runs at memory speed). Each line is then written by two
     // work-items' non-temporal stores, half each, and that measured slower than plain stores on an AMD Zen 3
     // (minnaert_1941 at one chain, 16M fragments: 173-189 Mfrag/s streamed, 246-249 plain; docs/speed.md,
     // "Half lines").
