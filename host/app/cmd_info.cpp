@@ -126,11 +126,13 @@ std::string plain_store_models() {
     return models_where([](const ModelInfo& info) { return info.plain_stores; });
 }
 
-// The models whose work-items write less than a whole 64-byte line of a plane on a device of this width, and so
-// keep plain stores past the threshold (Shader::streams_output(info, n, per_item)).
+// The models that would stream past the threshold but keep plain stores on a device of this width, their
+// work-items' blocks being part of a line (Shader::streams_output with the work-item's fragments decides).
 std::string half_line_models(std::size_t width) {
-    return models_where([width](const ModelInfo& info) {
-        return !info.plain_stores && !info.normals_only && Shader::frags_per_item(info, width) * sizeof(float) % Shader::kLineBytes != 0;
+    const std::size_t big = (Shader::kStreamOutputBytes + 11) / 12;
+    return models_where([width, big](const ModelInfo& info) {
+        return Shader::streams_output(info, big) &&
+               !Shader::streams_output(info, big, Shader::frags_per_item(info, width));
     });
 }
 

@@ -305,7 +305,7 @@ struct LaunchBuffers {
 cl_uint streamed_planes(const float* plane0, std::size_t stride, bool stream) {
     cl_uint mask = 0;
     for (std::size_t c = 0; stream && c < 3; ++c)
-        if (reinterpret_cast<std::uintptr_t>(plane0 + c * stride) % 64 == 0) mask |= cl_uint(1) << c;
+        if (reinterpret_cast<std::uintptr_t>(plane0 + c * stride) % Shader::kLineBytes == 0) mask |= cl_uint(1) << c;
     return mask;
 }
 
@@ -419,7 +419,7 @@ void finish_read_map(cl::CommandQueue& q, const ReadMap& m) {
 std::size_t fragments_to_line(const float* p, std::size_t n) {
     const std::uintptr_t a = reinterpret_cast<std::uintptr_t>(p);
     if (a % sizeof(float) != 0) return 0;
-    const std::size_t h = std::size_t((64 - a % 64) % 64) / sizeof(float);
+    const std::size_t line = Shader::kLineBytes, h = std::size_t((line - a % line) % line) / sizeof(float);
     return h < n ? h : 0;
 }
 
