@@ -126,7 +126,7 @@ struct KernelRun {
 KernelRun run_kernel(Runtime& rt, const Rows& r, const photometry::Law& law) {
     const std::size_t n = r.mu0.size();
     // built and launched as `photometry eval` builds and launches it (its defines, its chains a work-item)
-    cl::Program prog = rt.build("photometry.cl", photometry::pho_defines(law, Precision::Precise, false));
+    cl::Program prog = rt.build("photometry.cl", photometry::pho_defines(law, Precision::Precise, false, rt.vector_width()));
     const auto consts = pack_material(law.material);
     std::vector<cl::Buffer> in;
     for (const auto* v : {&r.mu0, &r.mu, &r.si, &r.se, &r.cg, &r.tg, &r.tp})

@@ -99,7 +99,7 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
                 std::set<std::pair<bool, std::size_t>> kinds;
                 for (const Material& m : mats) {
                     const ModelInfo& info = find_model(m.model);
-                    kinds.insert({info.normals_only, Shader::chains_for(info)});
+                    kinds.insert({info.normals_only, Shader::chains_for(info, rt.vector_width())});
                 }
                 const std::size_t programs = kinds.size();
                 CHECK(rt.programs_built() == before + programs);
@@ -230,6 +230,33 @@ TEST_CASE("shade: a work-group size that is not a multiple of the vector width i
     CHECK_THROWS_WITH(Runtime(RuntimeOptions{"", -1, "", "off", 3}), Catch::Contains("vector width 3"));
 }
 
+// The chains are chosen per kind of device (ModelInfo::chains_avx2): on a device of 8 lanes (an AVX2 host's) Oren-Nayar
+// runs two chains, 16 fragments a work-item, where 16 lanes run it as one; lommel_seeliger keeps one chain on both.
+// The launch, the program's SL_CHAINS and the pixels agree: a work-group of 24 fragments is refused, 32 taken, and
+// the pixels are the 16-lane device's, bit for bit.
+TEST_CASE("shade: chains per kind of device, launched as the program was built", "[shade][vector_width]") {
+    Runtime eight(RuntimeOptions{"", -1, "", "off", 8}), sixteen(RuntimeOptions{"", -1, "", "off", 16});
+    const FragmentBuffer fb = random_fragments(100, 5);
+    const struct {
+        const char* model;
+        std::size_t per_item_8, per_item_16;
+    } cases[] = {{"oren_nayar", 16, 16}, {"eon", 16, 16}, {"lommel_seeliger", 8, 16}, {"phong", 16, 32}};
+    for (const auto& c : cases) {
+        INFO("model " << c.model);
+        const ModelInfo& info = find_model(c.model);
+        REQUIRE(Shader::frags_per_item(info, 8) == c.per_item_8);
+        REQUIRE(Shader::frags_per_item(info, 16) == c.per_item_16);
+        ShadeSetup s = setup_of(default_of(c.model), kOneDirectional, Precision::Precise);
+        s.local_size = c.per_item_8 + c.per_item_8 / 2;
+        REQUIRE_THROWS_WITH(Shader(eight).shade(fb, s), Catch::Contains("multiple of the " +
+                                                                        std::to_string(c.per_item_8) + " fragments"));
+        s.local_size = 32;
+        const std::vector<float> a = Shader(eight).shade(fb, s), b = Shader(sixteen).shade(fb, s);
+        REQUIRE(a.size() == 300);
+        CHECK(same_bits(a, b));
+    }
+}
+
 // ModelInfo::normals_only is what decides a model's lanes (Shader::lanes_for) and bench_models' bytes a fragment;
 // it must be true of the kernel: the same normals under another view and at other positions give the same pixels
 // (a directional light, whose direction does not depend on the position). And it must be the whole truth: every
@@ -257,6 +284,7 @@ TEST_CASE("shade: the models marked normals-only are those whose pixels do not d
         CHECK(Shader::lanes_for(info.normals_only, 4) == 4);
         CHECK(Shader::frags_per_item(info, 16) ==
               Shader::lanes_for(info.normals_only, 16) * std::size_t(info.chains > 1 ? 2 : 1));
+        CHECK(Shader::frags_per_item(info, 8) == 8 * std::size_t(info.chains_avx2 > 1 ? 2 : 1));
         CHECK(Shader::frags_per_item(info, 1) == 1);   // no fragment loop at one lane: no second chain
         marked += info.normals_only ? 1 : 0;
     }
@@ -294,7 +322,7 @@ TEST_CASE("shade: two chains a work-item give one chain's pixels, bit for bit, f
         }
     CHECK(compared > model_catalogue().size());
     test::ScopedEnv env("SHADELAB_CHAINS", "3");
-    CHECK_THROWS_WITH(Shader::chains_for(model_catalogue().front()),
+    CHECK_THROWS_WITH(Shader::chains_for(model_catalogue().front(), 16),
                       Catch::Contains("SHADELAB_CHAINS is '3'") && Catch::Contains("use 1 or 2"));
 }
 

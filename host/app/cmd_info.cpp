@@ -116,9 +116,9 @@ std::string models_where(Pick pick) {
     return out.empty() ? "none" : out;
 }
 
-// The models shaded with two chains a work-item (Shader::chains_for).
-std::string two_chain_models() {
-    return models_where([](const ModelInfo& info) { return Shader::chains_for(info) > 1; });
+// The models shaded with two chains a work-item on a device of this width (Shader::chains_for).
+std::string two_chain_models(std::size_t width) {
+    return models_where([width](const ModelInfo& info) { return Shader::chains_for(info, width) > 1; });
 }
 
 // The models that keep plain stores at every size (ModelInfo::plain_stores).
@@ -175,7 +175,7 @@ void add_devices_command(CLI::App& app) {
     auto* cmd = app.add_subcommand("devices", "Show the OpenCL device shadelab picks and where its kernels are");
     cmd->callback([] {
         Runtime rt;
-        const std::string chains = two_chain_models();   // before any output: a bad SHADELAB_CHAINS is one line
+        const std::string chains = two_chain_models(rt.vector_width());   // before any output: a bad SHADELAB_CHAINS is one line
         const bool stream_all = Shader::streams_output(1);  // likewise a bad SHADELAB_STREAM_STORES
         const bool stream_none = !Shader::streams_output(std::size_t(1) << 40);
         std::cout << "device:  " << rt.device_description() << "\n"

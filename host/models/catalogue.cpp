@@ -53,7 +53,14 @@ ModelInfo& family_model(ModelFamily& family, const std::string& name, const char
 }  // namespace
 
 void use_two_chains(ModelFamily& family, const std::vector<std::string>& names) {
-    for (const std::string& name : names) family_model(family, name, "give two chains").chains = 2;
+    for (const std::string& name : names) {
+        ModelInfo& info = family_model(family, name, "give two chains");
+        info.chains = info.chains_avx2 = 2;
+    }
+}
+
+void use_two_chains_on_avx2(ModelFamily& family, const std::vector<std::string>& names) {
+    for (const std::string& name : names) family_model(family, name, "give two chains on AVX2").chains_avx2 = 2;
 }
 
 void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names) {

@@ -105,8 +105,11 @@ struct ModelInfo {
     // Independent chains of lanes a shading work-item runs through the model (kernels/common.cl, SL_CHAINS): 2 for
     // the models whose arithmetic is a long latency-bound chain, where a second chain fills the first's waits; 1
     // for the others, which a second chain slowed (the models near memory speed). Chosen by measuring each model
-    // at both (docs/speed.md, "Two chains"); Shader::frags_per_item.
+    // at both (docs/speed.md, "Two chains"); Shader::chains_for picks one by the device's lanes. `chains` on
+    // devices of 16 lanes (AVX-512 hosts; measured on Intel ones), `chains_avx2` on devices of 8 lanes or fewer
+    // (AVX2 hosts; measured on an AMD Zen 3, where a second chain gained for far more models: "Chains on AVX2").
     int chains = 1;
+    int chains_avx2 = 1;
     // Its shaded planes are written with plain stores at every size: streaming (non-temporal) stores, which the
     // launches past the cache use (Shader::streams_output), measured slower for it (docs/speed.md, "Streaming
     // stores"). Set by its family's registration (use_plain_stores).
@@ -134,9 +137,11 @@ struct ModelFamily {
 // Every registered family, by rank.
 const std::vector<ModelFamily>& model_families();
 
-// Sets ModelInfo::chains = 2 for the named models of `family` (its registration's last step); throws
-// shadelab::Error for a name that is not one of its models.
+// Sets ModelInfo::chains and chains_avx2 = 2 for the named models of `family` (its registration's last step):
+// two chains on every device; throws shadelab::Error for a name that is not one of its models.
 void use_two_chains(ModelFamily& family, const std::vector<std::string>& names);
+// Sets ModelInfo::chains_avx2 = 2 only: two chains on devices of 8 lanes or fewer (AVX2 hosts), one on AVX-512.
+void use_two_chains_on_avx2(ModelFamily& family, const std::vector<std::string>& names);
 
 // Sets ModelInfo::plain_stores for the named models of `family` (its registration's last step); throws
 // shadelab::Error for a name that is not one of its models.

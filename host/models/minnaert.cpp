@@ -142,6 +142,8 @@ ModelFamily register_minnaert_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"minnaert_1941", "minnaert_b", "minnaert_blender", "minnaert_normalized"});
+    // and on AVX2 hosts minnaert_unity too (1.21x at 1M and at 16M fragments: docs/speed.md, "Chains on AVX2")
+    use_two_chains_on_avx2(family, {"minnaert_unity"});
     // every model of the family is a power law: fast mode's own pow (ModelInfo::fast_differs)
     use_fast_pow(family, {"minnaert_1941", "minnaert_unity", "minnaert_blender", "minnaert_b", "minnaert_normalized"});
     return family;

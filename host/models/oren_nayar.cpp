@@ -272,6 +272,11 @@ ModelFamily register_oren_nayar_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains")
     use_two_chains(family, {"oren_nayar_blender"});
+    // and on AVX2 hosts every other model of the family, where two chains gained 1.13-1.58x (the median of
+    // three alternating rounds at 1M and 16M fragments, both modes, an AMD Zen 3: docs/speed.md, "Chains on AVX2")
+    use_two_chains_on_avx2(family, {"oren_nayar", "oren_nayar_st", "oren_nayar_full", "oren_nayar_seed001",
+                                    "oren_nayar_seed003", "oren_nayar_seed004", "oren_nayar_fujii",
+                                    "oren_nayar_fujii_full", "eon", "eon_approx"});
     return family;
 }
 

@@ -208,6 +208,8 @@ ModelFamily register_planetary_family() {
     // two chains a work-item where measuring each model at one and two found two faster (docs/speed.md,
     // "Two chains"; hapke_leg lost 8% at 16M fragments with two)
     use_two_chains(family, {"hapke_hen", "hapke_2012"});
+    // and on AVX2 hosts McEwen's laws (1.25-1.43x: docs/speed.md, "Chains on AVX2"; hapke_leg 1.03x at 16M there)
+    use_two_chains_on_avx2(family, {"lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio"});
     // plain stores at every size where streaming stores measured slower (docs/speed.md, "Streaming stores")
     use_plain_stores(family, {"hapke_leg", "hapke_2012"});
     return family;

@@ -44,7 +44,7 @@ public:
         law_.material = base;
         const PhoArrays p = pho_arrays(law_, rows, 0, n_, padded_);
         try {
-            prog_ = rt.build("photometry.cl", pho_defines(law_, precision, false), Shader::options_for(precision));
+            prog_ = rt.build("photometry.cl", pho_defines(law_, precision, false, rt.vector_width()), Shader::options_for(precision));
             for (const auto* v : {&p.mu0, &p.mu, &p.sin_i, &p.sin_e, &p.cos_g, &p.tan_half_g, &p.tan_half_psi})
                 rows_.emplace_back(rt.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, v->size() * sizeof(float),
                                    const_cast<float*>(v->data()));

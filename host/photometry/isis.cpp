@@ -387,7 +387,7 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
     return p;
 }
 
-std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw) {
+std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw, std::size_t device_width) {
     std::vector<std::string> defines;
     if (law.empirical) {
         // The empirical kernel reads no model, but the file is built with one: the catalogue's Lommel-Seeliger,
@@ -401,19 +401,19 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
     }
     if (precision == Precision::Fast) defines.push_back("SL_FAST=1");
     if (raw) defines.push_back("SL_PHO_RAW=1");
-    if (const std::size_t chains = pho_chains(law); chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
+    if (const std::size_t chains = pho_chains(law, device_width); chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return defines;
 }
 
-std::size_t pho_chains(const Law& law) {
-    return law.empirical ? 1 : Shader::chains_for(find_model(law.material.model));
+std::size_t pho_chains(const Law& law, std::size_t device_width) {
+    return law.empirical ? 1 : Shader::chains_for(find_model(law.material.model), device_width);
 }
 
 void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,
                   std::size_t sets) {
     // kernels/common.cl: no second chain at one lane
     const std::size_t lanes = rt.vector_width();
-    const std::size_t per_item = law.empirical ? 1 : (lanes > 1 ? lanes * pho_chains(law) : 1);
+    const std::size_t per_item = law.empirical ? 1 : (lanes > 1 ? lanes * pho_chains(law, lanes) : 1);
     const cl::NDRange global = sets ? cl::NDRange(rows / per_item, sets) : cl::NDRange(rows / per_item);
     const cl::NDRange group = sets ? cl::NDRange(local / per_item, 1) : cl::NDRange(local / per_item);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, group);
@@ -426,7 +426,7 @@ std::vector<double> evaluate(Runtime& rt, const Law& law, const std::vector<Geom
     std::vector<double> result(rows.size(), 0.0);
     if (rows.empty()) return result;
     try {
-        cl::Program prog = rt.build("photometry.cl", pho_defines(law, precision, raw), Shader::options_for(precision));
+        cl::Program prog = rt.build("photometry.cl", pho_defines(law, precision, raw, rt.vector_width()), Shader::options_for(precision));
         const auto consts = law.empirical ? std::vector<ModelConsts>{} : pack_material(law.material);
         const std::size_t chunk = std::size_t(1) << 22, local = 256;
         for (std::size_t first = 0; first < rows.size(); first += chunk) {

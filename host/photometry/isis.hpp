@@ -76,12 +76,14 @@ struct PhoArrays {
 };
 PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::size_t first, std::size_t n,
                      std::size_t padded);
-// The defines kernels/photometry.cl is built with for this law.
-std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw);
-// The chains of lanes a work-item of eval_photometric(_sets) runs for this law: its catalogue model's
-// (Shader::chains_for: 2 for hapke_hen and hapke_2012, SHADELAB_CHAINS sets every law's), 1 for the empirical
-// laws; pho_defines builds the program with it.
-std::size_t pho_chains(const Law& law);
+// The defines kernels/photometry.cl is built with for this law on a device of `device_width` lanes
+// (Runtime::vector_width()).
+std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw, std::size_t device_width);
+// The chains of lanes a work-item of eval_photometric(_sets) runs for this law on a device of `device_width`
+// lanes: its catalogue model's (Shader::chains_for: 2 for hapke_hen and hapke_2012 on every device, and for
+// McEwen's laws on AVX2 hosts; SHADELAB_CHAINS sets every law's), 1 for the empirical laws; pho_defines builds
+// the program with it.
+std::size_t pho_chains(const Law& law, std::size_t device_width);
 
 // Enqueues a kernel of kernels/photometry.cl, built for `law` (pho_defines), over `rows` rows (padded: a multiple
 // of `local`, the work-group's rows, since the kernels have no bounds check) and `sets` parameter sets

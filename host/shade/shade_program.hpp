@@ -13,6 +13,9 @@ namespace shadelab {
 // precision, so what decides whether two jobs' kernels can share one (scene/batch.cpp).
 bool all_lights_directional(const std::vector<Light>& lights);
 
-ProgramRequest shade_program(const Material& resolved, const std::vector<Light>& lights, Precision precision);
+// On a device of `device_width` lanes (Runtime::vector_width()), which decides the model's chains
+// (Shader::chains_for).
+ProgramRequest shade_program(const Material& resolved, const std::vector<Light>& lights, Precision precision,
+                             std::size_t device_width);
 
 }  // namespace shadelab

@@ -167,14 +167,17 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
     for (const Material& given : materials) {
         const Material m = resolve_material(given);
         if (!shareable(m)) continue;
-        ProgramRequest single = shade_program(m, lights, precision);
+        ProgramRequest single = shade_program(m, lights, precision, rt_.vector_width());
         std::string key = request_key(single);
         if (many_.count(key) || !seen.insert(key).second) continue;
         todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
     }
     // A program's models share its fragments a work-item (SL_MAX_LANES, SL_CHAINS): the models of one lanes and
     // chains go together.
-    const auto kind = [](const Todo& t) { return std::make_pair(t.info->normals_only, chains_for(*t.info)); };
+    const std::size_t width = rt_.vector_width();
+    const auto kind = [width](const Todo& t) {
+        return std::make_pair(t.info->normals_only, chains_for(*t.info, width));
+    };
     std::stable_sort(todo.begin(), todo.end(), [&](const Todo& a, const Todo& b) { return kind(a) < kind(b); });
     std::map<std::string, SharedKernel> added;
     for (std::size_t b = 0; b < todo.size();) {   // programs of up to kManyModels models and kManyHeaders files
@@ -242,7 +245,8 @@ bool all_lights_directional(const std::vector<Light>& lights) {
     return std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
 }
 
-ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision) {
+ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision,
+                              std::size_t device_width) {
     std::vector<std::string> defines = Shader::defines_for(mat, int(lights.size()), precision);
     // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
     // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
@@ -250,7 +254,7 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     const ModelInfo& info = find_model(mat.model);
     if (info.normals_only)   // Shader::lanes_for
         defines.push_back("SL_MAX_LANES=" + std::to_string(Shader::kNormalsOnlyLanes));
-    if (const std::size_t chains = Shader::chains_for(info); chains > 1)   // Shader::frags_per_item
+    if (const std::size_t chains = Shader::chains_for(info, device_width); chains > 1)   // Shader::frags_per_item
         defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return {"shade.cl", defines, Shader::options_for(precision)};
 }
@@ -259,9 +263,9 @@ std::size_t Shader::lanes_for(bool normals_only, std::size_t device_width) {
     return normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
 }
 
-std::size_t Shader::chains_for(const ModelInfo& info) {
+std::size_t Shader::chains_for(const ModelInfo& info, std::size_t device_width) {
     const auto two = env_switch("SHADELAB_CHAINS", "1", "2", "chains a shading work-item runs");
-    return two.value_or(info.chains > 1) ? 2 : 1;
+    return two.value_or((device_width >= 16 ? info.chains : info.chains_avx2) > 1) ? 2 : 1;
 }
 
 bool Shader::streams_output(std::size_t n) {
@@ -283,7 +287,7 @@ bool Shader::streams_output(const ModelInfo& info, std::size_t n, std::size_t pe
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
     const std::size_t lanes = lanes_for(info.normals_only, device_width);
-    return lanes > 1 ? lanes * chains_for(info) : 1;   // kernels/common.cl: no second chain at one lane
+    return lanes > 1 ? lanes * chains_for(info, device_width) : 1;   // kernels/common.cl: no second chain at one lane
 }
 
 namespace {
@@ -486,7 +490,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     std::vector<float> rest_out(3 * rest_n);
     try {
         const auto t0 = clock::now();
-        cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision));
+        cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision, rt_.vector_width()));
         const auto t1 = clock::now();
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
@@ -524,7 +528,7 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
 // The program Shader::shade builds for `mat` and one directional light (its lanes and chains): eval_directions
 // and eval_batch run from it, so one build serves the three kernels.
 cl::Program Shader::one_light_program(const Material& mat, Precision precision) {
-    const ProgramRequest req = shade_program(mat, {Light{}}, precision);
+    const ProgramRequest req = shade_program(mat, {Light{}}, precision, rt_.vector_width());
     return rt_.build(req.main_file, req.defines, req.extra_options);
 }
 

@@ -83,10 +83,11 @@ public:
     // "Sixteen lanes").
     static constexpr std::size_t kNormalsOnlyLanes = 8;
     static std::size_t lanes_for(bool normals_only, std::size_t device_width);
-    // Chains a work-item of `info`'s shade kernel runs (ModelInfo::chains; kernels/common.cl, SL_CHAINS), unless
-    // the environment's SHADELAB_CHAINS (1 or 2) sets it for every model (for measuring the choice); throws
+    // Chains a work-item of `info`'s shade kernel runs on a device of `device_width` lanes (kernels/common.cl,
+    // SL_CHAINS): ModelInfo::chains at 16 lanes (AVX-512 hosts), ModelInfo::chains_avx2 at fewer (AVX2 hosts),
+    // unless the environment's SHADELAB_CHAINS (1 or 2) sets it for every model (for measuring the choice); throws
     // shadelab::Error on any other value of it.
-    static std::size_t chains_for(const ModelInfo& info);
+    static std::size_t chains_for(const ModelInfo& info, std::size_t device_width);
     // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for times chains_for (one chain at one lane,
     // where there is no fragment loop).
     static std::size_t frags_per_item(const ModelInfo& info, std::size_t device_width);
