@@ -543,6 +543,25 @@ SL_INLINE float sl_pow_nonneg(float x, float y) {
     return x == 0.0f ? at_zero : sl_pow_formula(x, y);
 }
 
+// x1^y1 x2^y2 for finite x1, x2 >= 0 and finite y1, y2 >= 0, as one exponential: 2^(y1 log2 x1 + y2 log2 x2),
+// the two logarithms and the sum of the two products in float-float (TwoSum, Knuth: t + t_lo exactly t1 + t2 plus
+// both products' low parts), then sl_exp2_ff once: one exponential fewer than two sl_pow_nonneg and a product, and
+// one rounding instead of three. A zero base gives 0 when its exponent is > 0 (the product is 0) and adds nothing
+// when it is 0 (its log2 is taken of 1, exactly 0): pow(0, 0) = 1 as sl_pow_nonneg. The second logarithm after the
+// first (sl_after): the two are what LLVM's SLP vectoriser would pair into one <2 x float> computation, which stops
+// the loop vectoriser (MinnaertB_factor_times). A product below 2^-126 is 0 (sl_exp2_ff's flush), as each power's is.
+SL_INLINE float sl_pow2_nonneg(float x1, float y1, float x2, float y2) {
+    const int zero = (x1 == 0.0f && y1 > 0.0f) || (x2 == 0.0f && y2 > 0.0f);
+    float l1_lo, l2_lo;
+    const float l1 = sl_log2_ff(x1 == 0.0f ? 1.0f : x1, &l1_lo);
+    const float l2 = sl_log2_ff(sl_after(x2 == 0.0f ? 1.0f : x2, l1), &l2_lo);
+    const float t1 = y1 * l1, t2 = y2 * l2;
+    const float t = t1 + t2, t2v = t - t1;                      // TwoSum: t + ((t1 - (t - t2v)) + (t2 - t2v)) = t1 + t2
+    const float sum_lo = (t1 - (t - t2v)) + (t2 - t2v);
+    const float t_lo = sum_lo + ((fma(y1, l1, -t1) + y1 * l1_lo) + (fma(y2, l2, -t2) + y2 * l2_lo));
+    return zero ? 0.0f : sl_exp2_ff(t, t_lo);
+}
+
 // ---- sl_fast_pow (fast mode): plain float
 
 // Fast mode's pow is precise mode's less what a picture cannot show: no float-float product, no division and no
@@ -597,6 +616,17 @@ SL_INLINE float sl_fast_pow(float x, float y) {
     const float r = sl_exp2_f(y * sl_log2_f(x));
     const float at_zero = y > 0.0f ? 0.0f : (y == 0.0f ? 1.0f : INFINITY);
     return x < 1.17549435e-38f ? at_zero : r;
+}
+
+// x1^y1 x2^y2 for finite x1, x2 >= 0 and finite y1, y2 >= 0 in fast mode: 2^(y1 log2 x1 + y2 log2 x2) in plain
+// float, one exponential (sl_pow2_nonneg's form without the low parts). A denormal base is taken as 0, as
+// sl_fast_pow takes it: the product is 0 when its exponent is > 0, and it adds nothing when that is 0.
+SL_INLINE float sl_fast_pow2(float x1, float y1, float x2, float y2) {
+    const int small1 = x1 < 1.17549435e-38f, small2 = x2 < 1.17549435e-38f;
+    const int zero = (small1 && y1 > 0.0f) || (small2 && y2 > 0.0f);
+    const float l1 = sl_log2_f(small1 ? 1.0f : x1);
+    const float l2 = sl_log2_f(sl_after(small2 ? 1.0f : x2, l1));
+    return zero ? 0.0f : sl_exp2_f(fma(y1, l1, y2 * l2));
 }
 
 // ---- sl_pow_cr: double, correctly rounded over the sweep in docs/precision.md
@@ -692,28 +722,34 @@ SL_INLINE float sl_pow_cr(float x, float y) {
 #endif
 
 // pow in each mode (see "pow: three forms" above), and pow_nonneg: pow where the model guarantees a finite base
-// >= 0 and a finite exponent (the same value; precise mode skips the special cases that cannot occur).
+// >= 0 and a finite exponent (the same value; precise mode skips the special cases that cannot occur);
+// pow2_nonneg(x1, y1, x2, y2): x1^y1 x2^y2 with finite bases >= 0 and finite exponents >= 0, one exponential in
+// precise and fast mode (sl_pow2_nonneg, sl_fast_pow2), the product of two pows in the others.
 #if defined(SL_BUILTIN_POW)
 // PoCL's own pow and powr
 #define pow_nonneg(x, y) pow((x), (y))
+#define pow2_nonneg(x1, y1, x2, y2) (pow((x1), (y1)) * pow((x2), (y2)))
 #elif defined(SL_FAST)
 #undef pow
 #undef powr
 #define pow(x, y) sl_fast_pow((x), (y))
 #define powr(x, y) sl_fast_pow((x), (y))
 #define pow_nonneg(x, y) sl_fast_pow((x), (y))
+#define pow2_nonneg(x1, y1, x2, y2) sl_fast_pow2((x1), (y1), (x2), (y2))
 #elif defined(SL_POW_CR) && defined(SL_HAVE_POW_CR)
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow_cr((x), (y))
 #define powr(x, y) sl_pow_cr((x), (y))
 #define pow_nonneg(x, y) sl_pow_cr((x), (y))
+#define pow2_nonneg(x1, y1, x2, y2) (sl_pow_cr((x1), (y1)) * sl_pow_cr((x2), (y2)))
 #else
 #undef pow
 #undef powr
 #define pow(x, y) sl_pow((x), (y))
 #define powr(x, y) sl_pow((x), (y))
 #define pow_nonneg(x, y) sl_pow_nonneg((x), (y))
+#define pow2_nonneg(x1, y1, x2, y2) sl_pow2_nonneg((x1), (y1), (x2), (y2))
 #endif
 
 #endif

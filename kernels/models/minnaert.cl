@@ -62,14 +62,13 @@ SL_INLINE float Minnaert_blender_nvidia(float one_minus_nv, float d_minus_1) {
 }
 
 // Seed 002's MinnaertB factor on Lambert: NoL^k * (1 - NoV)^(1-k). pow(0, 0) = 1 at k = 1, V = N (the limit).
-// Returned times a (the caller's NoL) as (a NoL^k) (1 - NoV)^(1-k), the second power after the first
-// (common.cl's sl_after): the two powers, with exponents next to each other in the constants, are what LLVM's
-// SLP vectoriser pairs into one <2 x float> computation, which stops the loop vectoriser.
+// Returned times a (the caller's NoL). The two powers are one exponential, 2^(k log2 NoL + (1-k) log2(1 - NoV))
+// (common.cl's pow2_nonneg, which also keeps LLVM's SLP vectoriser from pairing the two logarithms, which would
+// stop the loop vectoriser).
 // For NoL > 0 and one_minus_NoV >= 0 (Minnaert_one_minus_NoV, or 1): the caller selects 0 where NoL <= 0, so the
 // base max(NoL, 0) changes no value it keeps and lets both powers skip pow's tests for a negative or NaN base.
 SL_INLINE float MinnaertB_factor_times(float a, float NoL, float one_minus_NoV, float k, float one_minus_k) {
-    const float first = a * pow_nonneg(fmax(NoL, 0.0f), k);
-    return first * pow_nonneg(sl_after(one_minus_NoV, first), one_minus_k);
+    return a * pow2_nonneg(fmax(NoL, 0.0f), k, one_minus_NoV, one_minus_k);
 }
 
 // ---- models -------------------------------------------------------------------------------------------
