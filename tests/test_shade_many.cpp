@@ -232,8 +232,8 @@ TEST_CASE("shade: a work-group size that is not a multiple of the vector width i
 
 // The chains are chosen per kind of device (ModelInfo::chains_avx2): on a device of 8 lanes (an AVX2 host's) Oren-Nayar
 // runs two chains, 16 fragments a work-item, where 16 lanes run it as one; lommel_seeliger keeps one chain on both.
-// The launch, the program's SL_CHAINS and the pixels agree: a work-group of 24 fragments is refused, 32 taken, and
-// the pixels are the 16-lane device's, bit for bit.
+// The launch, the program's SL_CHAINS and the pixels agree: on the 8-lane device a work-group of one and a half
+// work-items' fragments is refused (24 for Oren-Nayar), 32 taken, and the pixels are the 16-lane device's, bit for bit.
 TEST_CASE("shade: chains per kind of device, launched as the program was built", "[shade][vector_width]") {
     Runtime eight(RuntimeOptions{"", -1, "", "off", 8}), sixteen(RuntimeOptions{"", -1, "", "off", 16});
     const FragmentBuffer fb = random_fragments(100, 5);
