@@ -271,8 +271,9 @@ SL_INLINE sl_rgb oren_nayar_seed004_eval(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, con
 // The 0.95 ("prevent tangens from shooting to inf") bounds tan(b) by tan(0.95 pi/2) = 12.7, at the cost of
 // a darker B term everywhere. The same value with less trigonometry: sin(a) is the sine |N x W| of the larger
 // angle, and only the smaller angle b goes through atan2(|N x W|, N.W) (= acos, accurate near 0): one atan2 and
-// no sin where the literal form takes two and a sin (1.10-1.33x, docs/speed.md "Blender's Oren-Nayar"). Blender's
-// normalize_v3 returns a zero vector for a zero input, so t = 0 at L or V = N. Constants: OrenNayarConsts.
+// no sin where the literal form takes two and a sin (1.10-1.33x: docs/speed.md, "Blender's Oren-Nayar with one
+// arctangent"). Blender's normalize_v3 returns a zero vector for a zero input, so t = 0 at L or V = N.
+// Constants: OrenNayarConsts.
 SL_INLINE sl_v3 ON_normalize_or_zero(sl_v3 v) {
     const float d2 = sl_dot(v, v);
     return sl_scale(v, d2 > 1e-30f ? rsqrt(d2) : 0.0f);
