@@ -21,7 +21,7 @@
 //            LLVM remarks PoCL prints with POCL_VECTORIZER_REMARKS=1 while it compiles the kernel (the kernel
 //            cache is switched off for that, POCL_KERNEL_CACHE=0, so every program is really compiled; --no-vec
 //            skips it). "16" = vectorised 16 wide (8 for the models of N and L only, Shader::lanes_for, and on
-//            AVX2 hosts), "16x2" with two chains (interleaved twice, Shader::chains_for); "no: <reason>" =
+//            AVX2 hosts but for the models that take sixteen there), "16x2" with two chains (interleaved twice, Shader::chains_for); "no: <reason>" =
 //            LLVM's reason for running one fragment at a time.
 // Targets (figures, never assertions; issue #13): cheap models (lambert, half_lambert, banded, toon) >= 0.8 of
 // STREAM; every model >= 0.25 of STREAM at 16M fragments; models that call transcendental functions, in
@@ -619,7 +619,7 @@ int main(int argc, char** argv) {
                     const std::string key = info.name + "/" + precision_name(opt.modes[k]);
                     if (opt.vec_report && !vec_of.count(key)) {
                         const std::string remarks = capture_output([&] { outs[k] = shader.shade(fb, setups[k]); });
-                        const std::size_t lanes = Shader::lanes_for(info.normals_only, rt.vector_width());
+                        const std::size_t lanes = Shader::lanes_for(info, rt.vector_width());
                         vec_of[key] = vectoriser_verdict(remarks, lanes,
                                                          Shader::frags_per_item(info, rt.vector_width()) / lanes);
                     } else {

@@ -148,7 +148,11 @@ SL_INLINE float sl_floor_nonneg(float x) { return x < 8388608.0f ? convert_float
 #endif
 // SL_MAX_LANES caps it for one program: the host builds the shade programs of the models that read normals only
 // with SL_MAX_LANES=8 (host/shade/shader.hpp, Shader::lanes_for, says why) and launches them accordingly.
-#if defined(SL_MAX_LANES) && SL_MAX_LANES < SL_VECTOR_WIDTH
+// SL_MODEL_LANES sets it for one program: on an 8-lane device the host builds the models measured faster at 16
+// lanes (two 256-bit registers a step; ModelInfo::lanes_avx2) with SL_MODEL_LANES=16.
+#if defined(SL_MODEL_LANES)
+#define SL_LANES SL_MODEL_LANES
+#elif defined(SL_MAX_LANES) && SL_MAX_LANES < SL_VECTOR_WIDTH
 #define SL_LANES SL_MAX_LANES
 #else
 #define SL_LANES SL_VECTOR_WIDTH

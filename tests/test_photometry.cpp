@@ -675,10 +675,12 @@ TEST_CASE("round trip: discs rendered with McEwen's L(g) give back L(g) from a L
 }
 
 // eval_photometric evaluates the device's vector width of rows a work-item (kernels/common.cl, SL_FRAGS_PER_ITEM):
-// every law gives the values of one row a work-item, bit for bit, over rows that fill no whole work-group.
+// every law gives the values of one row a work-item, bit for bit, over rows that fill no whole work-group, and so
+// does a runtime of 8 lanes, an AVX2 host's (photometry::pho_rows_per_item).
 TEST_CASE("photometry eval: rows a work-item at the device's vector width give one-row-a-work-item values, bit for bit",
           "[photometry][vector_width]") {
-    Runtime one(RuntimeOptions{"", -1, "", "off", 1}), wide(RuntimeOptions{"", -1, "", "off"});
+    Runtime one(RuntimeOptions{"", -1, "", "off", 1}), wide(RuntimeOptions{"", -1, "", "off"}),
+        eight(RuntimeOptions{"", -1, "", "off", 8});
     INFO("device vector width " << wide.vector_width());
     std::vector<photometry::Geometry> rows;
     for (int k = 0; k < 1000; ++k)   // a fixed spread of phase, incidence and emission, some past 90 degrees
@@ -694,11 +696,14 @@ TEST_CASE("photometry eval: rows a work-item at the device's vector width give o
             INFO("law " << model << ", " << precision_name(p));
             const std::vector<double> a = photometry::evaluate(one, law, rows, p, true);
             const std::vector<double> b = photometry::evaluate(wide, law, rows, p, true);
+            const std::vector<double> c = photometry::evaluate(eight, law, rows, p, true);
             REQUIRE(a.size() == rows.size());
             REQUIRE(b.size() == rows.size());
+            REQUIRE(c.size() == rows.size());
             std::size_t differ = 0, lit = 0;
             for (std::size_t r = 0; r < rows.size(); ++r) {
                 differ += std::memcmp(&a[r], &b[r], sizeof(double)) != 0 ? 1 : 0;
+                differ += std::memcmp(&a[r], &c[r], sizeof(double)) != 0 ? 1 : 0;
                 lit += a[r] > 0.0 ? 1 : 0;
             }
             CHECK(differ == 0);

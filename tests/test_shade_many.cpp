@@ -17,6 +17,7 @@
 
 #include "cl/runtime.hpp"
 #include "models/catalogue.hpp"
+#include "shade/shade_program.hpp"
 #include "shade/shader.hpp"
 #include "support.hpp"
 
@@ -94,12 +95,12 @@ TEST_CASE("shade: one shared program gives each model's own program's pixels, bi
                 const std::size_t before = rt.programs_built();
                 REQUIRE(shared.prepare_many(mats, *lights, p, dispatch) == models.size());
                 // one program for each kind of work-item among them: the normals-only models' programs take
-                // fewer lanes (Shader::lanes_for), the two-chain models' two chains (Shader::chains_for), and a
-                // program's models share its lanes and chains
-                std::set<std::pair<bool, std::size_t>> kinds;
+                // fewer lanes and the sixteen-lane models' more (Shader::lanes_for), the two-chain models' two
+                // chains (Shader::chains_for), and a program's models share its lanes and chains
+                std::set<std::pair<std::size_t, std::size_t>> kinds;
                 for (const Material& m : mats) {
                     const ModelInfo& info = find_model(m.model);
-                    kinds.insert({info.normals_only, Shader::chains_for(info, rt.vector_width())});
+                    kinds.insert({Shader::lanes_for(info, rt.vector_width()), Shader::chains_for(info, rt.vector_width())});
                 }
                 const std::size_t programs = kinds.size();
                 CHECK(rt.programs_built() == before + programs);
@@ -231,7 +232,7 @@ TEST_CASE("shade: a work-group size that is not a multiple of the vector width i
 }
 
 // The chains are chosen per kind of device (ModelInfo::chains_avx2): on a device of 8 lanes (an AVX2 host's) Oren-Nayar
-// runs two chains, 16 fragments a work-item, where 16 lanes run it as one; lommel_seeliger keeps one chain on both.
+// runs two chains, 16 fragments a work-item, where 16 lanes run it as one; lunar_lambert keeps one chain on both.
 // The launch, the program's SL_CHAINS and the pixels agree: on the 8-lane device a work-group of one and a half
 // work-items' fragments is refused (24 for Oren-Nayar), 32 taken, and the pixels are the 16-lane device's, bit for bit.
 TEST_CASE("shade: chains per kind of device, launched as the program was built", "[shade][vector_width]") {
@@ -240,7 +241,7 @@ TEST_CASE("shade: chains per kind of device, launched as the program was built",
     const struct {
         const char* model;
         std::size_t per_item_8, per_item_16;
-    } cases[] = {{"oren_nayar", 16, 16}, {"eon", 16, 16}, {"lommel_seeliger", 8, 16}, {"phong", 16, 32}};
+    } cases[] = {{"oren_nayar", 16, 16}, {"eon", 16, 16}, {"lunar_lambert", 8, 16}, {"phong", 16, 32}};
     for (const auto& c : cases) {
         INFO("model " << c.model);
         const ModelInfo& info = find_model(c.model);
@@ -255,6 +256,50 @@ TEST_CASE("shade: chains per kind of device, launched as the program was built",
         REQUIRE(a.size() == 300);
         CHECK(same_bits(a, b));
     }
+}
+
+// Sixteen lanes on a device of 8 (ModelInfo::lanes_avx2, Shader::lanes_for): the models registered with them are
+// built with SL_MODEL_LANES=16 and launched with 16 fragments a chain, a work-group of one and a half work-items
+// refused; their pixels are those of 8 lanes (SHADELAB_WIDE_LANES=0) and of a 16-lane device, bit for bit, in both
+// modes. SHADELAB_WIDE_LANES=1 gives every model not of N and L only sixteen, and any other value is one line.
+TEST_CASE("shade: sixteen lanes on an 8-lane device for the models registered with them", "[shade][vector_width]") {
+    Runtime eight(RuntimeOptions{"", -1, "", "off", 8}), sixteen(RuntimeOptions{"", -1, "", "off", 16});
+    const FragmentBuffer fb = random_fragments(100, 9);
+    std::size_t wide = 0;
+    for (const auto& info : model_catalogue()) {
+        if (info.lanes_avx2 != 16) continue;
+        ++wide;
+        INFO("model " << info.name);
+        const std::size_t chains = Shader::chains_for(info, 8), per_item = 16 * chains;
+        REQUIRE(Shader::frags_per_item(info, 8) == per_item);
+        const ProgramRequest req = shade_program(default_of(info.name), kOneDirectional, Precision::Precise, 8);
+        CHECK(std::count(req.defines.begin(), req.defines.end(), "SL_MODEL_LANES=16") == 1);
+        for (Precision p : {Precision::Precise, Precision::Fast}) {
+            ShadeSetup s = setup_of(default_of(info.name), kOneDirectional, p);
+            s.local_size = per_item + per_item / 2;
+            REQUIRE_THROWS_WITH(Shader(eight).shade(fb, s),
+                                Catch::Contains("multiple of the " + std::to_string(per_item) + " fragments"));
+            s.local_size = 64;
+            const std::vector<float> a = Shader(eight).shade(fb, s), b = Shader(sixteen).shade(fb, s);
+            std::vector<float> c;
+            {
+                test::ScopedEnv env("SHADELAB_WIDE_LANES", "0");
+                CHECK(Shader::frags_per_item(info, 8) == 8 * chains);
+                c = Shader(eight).shade(fb, s);
+            }
+            REQUIRE(a.size() == 300);
+            CHECK(same_bits(a, b));
+            CHECK(same_bits(a, c));
+        }
+    }
+    CHECK(wide >= 1);
+    {
+        test::ScopedEnv env("SHADELAB_WIDE_LANES", "1");
+        for (const auto& info : model_catalogue())
+            CHECK(Shader::lanes_for(info, 8) == (info.normals_only ? 8 : 16));
+    }
+    test::ScopedEnv env("SHADELAB_WIDE_LANES", "3");
+    CHECK_THROWS_WITH(Shader::lanes_for(find_model("phong"), 8), Catch::Contains("SHADELAB_WIDE_LANES"));
 }
 
 // ModelInfo::normals_only is what decides a model's lanes (Shader::lanes_for) and bench_models' bytes a fragment;
@@ -284,7 +329,10 @@ TEST_CASE("shade: the models marked normals-only are those whose pixels do not d
         CHECK(Shader::lanes_for(info.normals_only, 4) == 4);
         CHECK(Shader::frags_per_item(info, 16) ==
               Shader::lanes_for(info.normals_only, 16) * std::size_t(info.chains > 1 ? 2 : 1));
-        CHECK(Shader::frags_per_item(info, 8) == 8 * std::size_t(info.chains_avx2 > 1 ? 2 : 1));
+        CHECK(Shader::lanes_for(info, 16) == Shader::lanes_for(info.normals_only, 16));
+        CHECK(Shader::lanes_for(info, 8) == (info.lanes_avx2 == 16 ? 16 : 8));
+        CHECK(Shader::lanes_for(info, 4) == 4);
+        CHECK(Shader::frags_per_item(info, 8) == Shader::lanes_for(info, 8) * std::size_t(info.chains_avx2 > 1 ? 2 : 1));
         CHECK(Shader::frags_per_item(info, 1) == 1);   // no fragment loop at one lane: no second chain
         marked += info.normals_only ? 1 : 0;
     }

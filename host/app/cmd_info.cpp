@@ -121,6 +121,11 @@ std::string two_chain_models(std::size_t width) {
     return models_where([width](const ModelInfo& info) { return Shader::chains_for(info, width) > 1; });
 }
 
+// The models whose work-items take more lanes than the device's on this device (Shader::lanes_for).
+std::string wide_lane_models(std::size_t width) {
+    return models_where([width](const ModelInfo& info) { return Shader::lanes_for(info, width) > width; });
+}
+
 // The models that keep plain stores at every size (ModelInfo::plain_stores).
 std::string plain_store_models() {
     return models_where([](const ModelInfo& info) { return info.plain_stores; });
@@ -176,12 +181,15 @@ void add_devices_command(CLI::App& app) {
     cmd->callback([] {
         Runtime rt;
         const std::string chains = two_chain_models(rt.vector_width());   // before any output: a bad SHADELAB_CHAINS is one line
+        const std::string wide = wide_lane_models(rt.vector_width());     // likewise a bad SHADELAB_WIDE_LANES
         const bool stream_all = Shader::streams_output(1);  // likewise a bad SHADELAB_STREAM_STORES
         const bool stream_none = !Shader::streams_output(std::size_t(1) << 40);
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
-                  << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only\n"
+                  << Shader::lanes_for(true, rt.vector_width()) << " for the models of N and L only"
+                  << (wide == "none" ? std::string() : "; " + std::to_string(Shader::kWideLanes) + " for " + wide)
+                  << " (SHADELAB_WIDE_LANES=0 or 1 sets every model's on 8-lane devices)\n"
                   << "chains:  two chains of lanes a work-item, twice the fragments, for " << chains
                   << " (SHADELAB_CHAINS=1 or 2 sets every model's)\n"
                   << "stores:  "

@@ -63,6 +63,18 @@ void use_two_chains_on_avx2(ModelFamily& family, const std::vector<std::string>&
     for (const std::string& name : names) family_model(family, name, "give two chains on AVX2").chains_avx2 = 2;
 }
 
+void use_sixteen_lanes_on_avx2(ModelFamily& family, const std::vector<std::string>& names, int chains) {
+    if (chains != 1 && chains != 2) throw Error("internal: " + std::to_string(chains) + " chains: use 1 or 2");
+    for (const std::string& name : names) {
+        ModelInfo& info = family_model(family, name, "give sixteen lanes on AVX2");
+        if (info.normals_only)
+            throw Error("internal: model '" + name + "' reads N and L only, whose lanes are capped "
+                        "(Shader::kNormalsOnlyLanes); it cannot take sixteen");
+        info.lanes_avx2 = 16;
+        info.chains_avx2 = chains;
+    }
+}
+
 void use_plain_stores(ModelFamily& family, const std::vector<std::string>& names) {
     for (const std::string& name : names) family_model(family, name, "give plain stores").plain_stores = true;
 }

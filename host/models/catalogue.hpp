@@ -110,6 +110,11 @@ struct ModelInfo {
     // (AVX2 hosts; measured on an AMD Zen 3, where a second chain gained for far more models: "Chains on AVX2").
     int chains = 1;
     int chains_avx2 = 1;
+    // Lanes a shading work-item runs on devices of 8 lanes (AVX2 hosts): 0 for the device's 8, 16 (two 256-bit
+    // registers a step, kernels/common.cl's SL_MODEL_LANES) for the models measured faster so there (docs/speed.md,
+    // "Sixteen lanes on AVX2"; Shader::lanes_for). `chains_avx2` then counts chains of 16 lanes. Set by its
+    // family's registration (use_sixteen_lanes_on_avx2).
+    int lanes_avx2 = 0;
     // Its shaded planes are written with plain stores at every size: streaming (non-temporal) stores, which the
     // launches past the cache use (Shader::streams_output), measured slower for it (docs/speed.md, "Streaming
     // stores"). Set by its family's registration (use_plain_stores).
@@ -142,6 +147,11 @@ const std::vector<ModelFamily>& model_families();
 void use_two_chains(ModelFamily& family, const std::vector<std::string>& names);
 // Sets ModelInfo::chains_avx2 = 2 only: two chains on devices of 8 lanes or fewer (AVX2 hosts), one on AVX-512.
 void use_two_chains_on_avx2(ModelFamily& family, const std::vector<std::string>& names);
+// Sets ModelInfo::lanes_avx2 = 16 and chains_avx2 = `chains` (1 or 2, measured at those lanes; after
+// use_two_chains, which it overrides on AVX2): sixteen lanes a work-item on devices of 8 lanes. Throws
+// shadelab::Error for a name that is not one of its models or for a model of N and L only (those keep 8 lanes:
+// Shader::lanes_for).
+void use_sixteen_lanes_on_avx2(ModelFamily& family, const std::vector<std::string>& names, int chains);
 
 // Sets ModelInfo::plain_stores for the named models of `family` (its registration's last step); throws
 // shadelab::Error for a name that is not one of its models.

@@ -277,6 +277,9 @@ ModelFamily register_oren_nayar_family() {
     use_two_chains_on_avx2(family, {"oren_nayar", "oren_nayar_st", "oren_nayar_full", "oren_nayar_seed001",
                                     "oren_nayar_seed003", "oren_nayar_seed004", "oren_nayar_fujii",
                                     "oren_nayar_fujii_full", "eon", "eon_approx"});
+    // and eon_approx at sixteen lanes there, two chains of them (1.15x at 1M and 1.20x at 16M fragments, the
+    // median of eight alternating rounds: docs/speed.md, "Sixteen lanes on AVX2")
+    use_sixteen_lanes_on_avx2(family, {"eon_approx"}, 2);
     return family;
 }
 

@@ -210,6 +210,11 @@ ModelFamily register_planetary_family() {
     use_two_chains(family, {"hapke_hen", "hapke_2012"});
     // and on AVX2 hosts McEwen's laws (1.25-1.43x: docs/speed.md, "Chains on AVX2"; hapke_leg 1.03x at 16M there)
     use_two_chains_on_avx2(family, {"lunar_lambert_mcewen", "lunar_lambert_mcewen_ratio"});
+    // sixteen lanes on AVX2 hosts where they gained at least 1.10x at 1M and 16M fragments (the median of eight
+    // alternating rounds, an AMD Zen 3: docs/speed.md, "Sixteen lanes on AVX2"): hapke_leg 1.25x and 1.14x at
+    // one chain, lunar_lambert_mcewen_ratio 1.10x and 1.21x at two (lunar_lambert_mcewen 1.10x and 1.09x: not)
+    use_sixteen_lanes_on_avx2(family, {"hapke_leg"}, 1);
+    use_sixteen_lanes_on_avx2(family, {"lunar_lambert_mcewen_ratio"}, 2);
     // plain stores at every size where streaming stores measured slower (docs/speed.md, "Streaming stores")
     use_plain_stores(family, {"hapke_leg", "hapke_2012"});
     return family;

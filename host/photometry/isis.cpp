@@ -401,19 +401,23 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
     }
     if (precision == Precision::Fast) defines.push_back("SL_FAST=1");
     if (raw) defines.push_back("SL_PHO_RAW=1");
-    if (const std::size_t chains = pho_chains(law, device_width); chains > 1) defines.push_back("SL_CHAINS=" + std::to_string(chains));
+    if (!law.empirical)   // the chains of the law's catalogue model's shade kernel, at the device's lanes
+        if (const std::size_t chains = Shader::chains_for(find_model(law.material.model), device_width); chains > 1)
+            defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return defines;
 }
 
-std::size_t pho_chains(const Law& law, std::size_t device_width) {
-    return law.empirical ? 1 : Shader::chains_for(find_model(law.material.model), device_width);
+std::size_t pho_rows_per_item(const Law& law, std::size_t device_width) {
+    // kernels/common.cl: no second chain at one lane. The device's lanes, not Shader::lanes_for's: the laws whose
+    // shade kernel takes sixteen lanes on AVX2 measured no gain at sixteen here (docs/speed.md, "Sixteen lanes on
+    // AVX2": hapke_leg 0.73-1.05x in bench_photometry)
+    if (law.empirical || device_width == 1) return 1;
+    return device_width * Shader::chains_for(find_model(law.material.model), device_width);
 }
 
 void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,
                   std::size_t sets) {
-    // kernels/common.cl: no second chain at one lane
-    const std::size_t lanes = rt.vector_width();
-    const std::size_t per_item = law.empirical ? 1 : (lanes > 1 ? lanes * pho_chains(law, lanes) : 1);
+    const std::size_t per_item = pho_rows_per_item(law, rt.vector_width());
     const cl::NDRange global = sets ? cl::NDRange(rows / per_item, sets) : cl::NDRange(rows / per_item);
     const cl::NDRange group = sets ? cl::NDRange(local / per_item, 1) : cl::NDRange(local / per_item);
     rt.queue().enqueueNDRangeKernel(k, cl::NullRange, global, group);

@@ -79,16 +79,17 @@ PhoArrays pho_arrays(const Law& law, const std::vector<Geometry>& rows, std::siz
 // The defines kernels/photometry.cl is built with for this law on a device of `device_width` lanes
 // (Runtime::vector_width()).
 std::vector<std::string> pho_defines(const Law& law, Precision precision, bool raw, std::size_t device_width);
-// The chains of lanes a work-item of eval_photometric(_sets) runs for this law on a device of `device_width`
-// lanes: its catalogue model's (Shader::chains_for: 2 for hapke_hen and hapke_2012 on every device, and for
-// McEwen's laws on AVX2 hosts; SHADELAB_CHAINS sets every law's), 1 for the empirical laws; pho_defines builds
-// the program with it.
-std::size_t pho_chains(const Law& law, std::size_t device_width);
+// The rows a work-item of eval_photometric(_sets) evaluates for this law on a device of `device_width` lanes: the
+// device's lanes times its catalogue model's chains (Shader::chains_for: 2 for hapke_hen and hapke_2012 on every
+// device, and for McEwen's laws on AVX2 hosts; SHADELAB_CHAINS sets every law's), 1 for the empirical laws
+// (eval_empirical); pho_defines builds the program with those chains. The photometric kernels keep the device's
+// lanes where a model's shade kernel takes sixteen (Shader::lanes_for): measured no faster there.
+std::size_t pho_rows_per_item(const Law& law, std::size_t device_width);
 
 // Enqueues a kernel of kernels/photometry.cl, built for `law` (pho_defines), over `rows` rows (padded: a multiple
 // of `local`, the work-group's rows, since the kernels have no bounds check) and `sets` parameter sets
 // (eval_photometric_sets' second dimension; 0 for the one-dimensional kernels). eval_photometric and
-// eval_photometric_sets take rt.vector_width() rows a work-item times pho_chains(law) (kernels/common.cl,
+// eval_photometric_sets take pho_rows_per_item(law, rt.vector_width()) rows a work-item (kernels/common.cl,
 // SL_FRAGS_PER_ITEM), eval_empirical (an empirical law's) one.
 void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,
                   std::size_t sets = 0);

@@ -172,11 +172,11 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
         if (many_.count(key) || !seen.insert(key).second) continue;
         todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
     }
-    // A program's models share its fragments a work-item (SL_MAX_LANES, SL_CHAINS): the models of one lanes and
-    // chains go together.
+    // A program's models share its fragments a work-item (SL_MAX_LANES or SL_MODEL_LANES, SL_CHAINS): the models of
+    // one lanes and chains go together.
     const std::size_t width = rt_.vector_width();
     const auto kind = [width](const Todo& t) {
-        return std::make_pair(t.info->normals_only, chains_for(*t.info, width));
+        return std::make_pair(lanes_for(*t.info, width), chains_for(*t.info, width));
     };
     std::stable_sort(todo.begin(), todo.end(), [&](const Todo& a, const Todo& b) { return kind(a) < kind(b); });
     std::map<std::string, SharedKernel> added;
@@ -254,6 +254,8 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
     const ModelInfo& info = find_model(mat.model);
     if (info.normals_only)   // Shader::lanes_for
         defines.push_back("SL_MAX_LANES=" + std::to_string(Shader::kNormalsOnlyLanes));
+    else if (const std::size_t lanes = Shader::lanes_for(info, device_width); lanes != device_width)
+        defines.push_back("SL_MODEL_LANES=" + std::to_string(lanes));
     if (const std::size_t chains = Shader::chains_for(info, device_width); chains > 1)   // Shader::frags_per_item
         defines.push_back("SL_CHAINS=" + std::to_string(chains));
     return {"shade.cl", defines, Shader::options_for(precision)};
@@ -261,6 +263,12 @@ ProgramRequest shade_program(const Material& mat, const std::vector<Light>& ligh
 
 std::size_t Shader::lanes_for(bool normals_only, std::size_t device_width) {
     return normals_only ? std::min(device_width, kNormalsOnlyLanes) : device_width;
+}
+
+std::size_t Shader::lanes_for(const ModelInfo& info, std::size_t device_width) {
+    if (info.normals_only) return lanes_for(true, device_width);
+    const auto wide = env_switch("SHADELAB_WIDE_LANES", "0", "1", "sixteen lanes a shading work-item on an 8-lane device");
+    return device_width == 8 && wide.value_or(info.lanes_avx2 == int(kWideLanes)) ? kWideLanes : device_width;
 }
 
 std::size_t Shader::chains_for(const ModelInfo& info, std::size_t device_width) {
@@ -286,7 +294,7 @@ bool Shader::streams_output(const ModelInfo& info, std::size_t n, std::size_t pe
 }
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
-    const std::size_t lanes = lanes_for(info.normals_only, device_width);
+    const std::size_t lanes = lanes_for(info, device_width);
     return lanes > 1 ? lanes * chains_for(info, device_width) : 1;   // kernels/common.cl: no second chain at one lane
 }
 

@@ -83,12 +83,18 @@ public:
     // "Sixteen lanes").
     static constexpr std::size_t kNormalsOnlyLanes = 8;
     static std::size_t lanes_for(bool normals_only, std::size_t device_width);
+    // The lanes of `info`'s shade kernel: lanes_for(info.normals_only, device_width), except that on a device of 8
+    // lanes (an AVX2 host's) the models registered with sixteen (ModelInfo::lanes_avx2; their programs are built
+    // with SL_MODEL_LANES=16) take kWideLanes, unless the environment's SHADELAB_WIDE_LANES (0 or 1) sets it for
+    // every model but those of N and L only (for measuring the choice); throws shadelab::Error on any other value.
+    static constexpr std::size_t kWideLanes = 16;
+    static std::size_t lanes_for(const ModelInfo& info, std::size_t device_width);
     // Chains a work-item of `info`'s shade kernel runs on a device of `device_width` lanes (kernels/common.cl,
     // SL_CHAINS): ModelInfo::chains at 16 lanes (AVX-512 hosts), ModelInfo::chains_avx2 at fewer (AVX2 hosts),
     // unless the environment's SHADELAB_CHAINS (1 or 2) sets it for every model (for measuring the choice); throws
     // shadelab::Error on any other value of it.
     static std::size_t chains_for(const ModelInfo& info, std::size_t device_width);
-    // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for times chains_for (one chain at one lane,
+    // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for(info) times chains_for (one chain at one lane,
     // where there is no fragment loop).
     static std::size_t frags_per_item(const ModelInfo& info, std::size_t device_width);
     // Whether a launch shading n fragments writes its output planes with streaming (non-temporal) stores
