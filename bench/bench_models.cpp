@@ -21,8 +21,8 @@
 //            LLVM remarks PoCL prints with POCL_VECTORIZER_REMARKS=1 while it compiles the kernel (the kernel
 //            cache is switched off for that, POCL_KERNEL_CACHE=0, so every program is really compiled; --no-vec
 //            skips it). "16" = vectorised 16 wide (8 for the models of N and L only, Shader::lanes_for, and on
-//            AVX2 hosts but for the models that take sixteen there), "16x2" with two chains (interleaved twice, Shader::chains_for); "no: <reason>" =
-//            LLVM's reason for running one fragment at a time.
+//            AVX2 hosts but for the models that take sixteen there), "16x2" with two chains (interleaved twice,
+//            Shader::chains_for); "no: <reason>" = LLVM's reason for running one fragment at a time.
 // Targets (figures, never assertions; issue #13): cheap models (lambert, half_lambert, banded, toon) >= 0.8 of
 // STREAM; every model >= 0.25 of STREAM at 16M fragments; models that call transcendental functions, in
 // precise mode, >= 5x the C++ loop; fast mode >= 1.3x precise where the two modes are different programs and
