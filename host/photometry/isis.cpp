@@ -408,11 +408,10 @@ std::vector<std::string> pho_defines(const Law& law, Precision precision, bool r
 }
 
 std::size_t pho_rows_per_item(const Law& law, std::size_t device_width) {
-    // kernels/common.cl: no second chain at one lane. The device's lanes, not Shader::lanes_for's: the laws whose
-    // shade kernel takes sixteen lanes on AVX2 measured no gain at sixteen here (docs/speed.md, "Sixteen lanes on
-    // AVX2": hapke_leg 0.73-1.05x in bench_photometry)
-    if (law.empirical || device_width == 1) return 1;
-    return device_width * Shader::chains_for(find_model(law.material.model), device_width);
+    // The device's lanes, not Shader::lanes_for's: the laws whose shade kernel takes sixteen lanes on AVX2 measured
+    // no gain at sixteen here (docs/speed.md, "Sixteen lanes on AVX2": hapke_leg 0.73-1.05x in bench_photometry)
+    if (law.empirical) return 1;
+    return Shader::frags_of(device_width, Shader::chains_for(find_model(law.material.model), device_width));
 }
 
 void enqueue_rows(Runtime& rt, cl::Kernel& k, const Law& law, std::size_t rows, std::size_t local,

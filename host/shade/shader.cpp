@@ -294,8 +294,7 @@ bool Shader::streams_output(const ModelInfo& info, std::size_t n, std::size_t pe
 }
 
 std::size_t Shader::frags_per_item(const ModelInfo& info, std::size_t device_width) {
-    const std::size_t lanes = lanes_for(info, device_width);
-    return lanes > 1 ? lanes * chains_for(info, device_width) : 1;   // kernels/common.cl: no second chain at one lane
+    return frags_of(lanes_for(info, device_width), chains_for(info, device_width));
 }
 
 namespace {

@@ -94,9 +94,12 @@ public:
     // unless the environment's SHADELAB_CHAINS (1 or 2) sets it for every model (for measuring the choice); throws
     // shadelab::Error on any other value of it.
     static std::size_t chains_for(const ModelInfo& info, std::size_t device_width);
-    // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for(info) times chains_for (one chain at one lane,
-    // where there is no fragment loop).
+    // Fragments a work-item of `info`'s shade kernel evaluates: lanes_for(info) times chains_for, by frags_of.
     static std::size_t frags_per_item(const ModelInfo& info, std::size_t device_width);
+    // Fragments (or photometric rows) a work-item of `lanes` lanes and `chains` chains evaluates: lanes x chains,
+    // and 1 at one lane, where there is no fragment loop and so no second chain (kernels/common.cl,
+    // SL_FRAGS_PER_ITEM).
+    static std::size_t frags_of(std::size_t lanes, std::size_t chains) { return lanes > 1 ? lanes * chains : 1; }
     // Whether a launch shading n fragments writes its output planes with streaming (non-temporal) stores
     // (kernels/common.cl, sl_store_block): when the three planes, 12n bytes, are at least kStreamOutputBytes, past
     // the last-level cache, where a plain store first reads each line from memory. The environment's
