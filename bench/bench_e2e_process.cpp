@@ -231,7 +231,8 @@ int child_builds(int max_models, int build_threads) {
     }
     if (build_threads > 0) {
         std::vector<ProgramRequest> programs;
-        for (const ShadeSetup& s : setups) programs.push_back(shade_program(s.material, s.lights, s.precision, rt.vector_width()));
+        for (const ShadeSetup& s : setups)
+            programs.push_back(shade_program(s.material, s.lights, s.precision, rt.vector_width(), is_perspective(s.view)));
         prebuild(rt, programs, unsigned(build_threads));
     }
     for (const ShadeSetup& s : setups) shader.shade(fb, s);

@@ -97,7 +97,7 @@ TEST_CASE("prebuild builds each distinct program once, on several threads, and s
     const std::vector<Light> one{Light{Light::Type::Directional, {0, 0, 1}, {1, 1, 1}, 1.0, 0.0}};
     std::vector<ProgramRequest> requests;
     for (const char* model : {"lambert", "half_lambert", "lambert"})   // one twice: built once
-        requests.push_back(shade_program(resolve_material(Material{model}), one, Precision::Precise, rt.vector_width()));
+        requests.push_back(shade_program(resolve_material(Material{model}), one, Precision::Precise, rt.vector_width(), true));
     prebuild(rt, requests, 3);
     CHECK(rt.programs_built() == 2);
     // shade() asks for exactly the program prebuild made: no further build, and the shading is right.

@@ -160,6 +160,41 @@ TEST_CASE("shade: models with tables or children and other lights keep their own
     CHECK(rt.programs_built() == 4);
 }
 
+// The view's kind (perspective or orthographic) is built into the shade programs (SL_PERSPECTIVE, kernels/
+// shade_parts.cl): each kind gets its own program, a program prepared for one kind is not used for the other, and
+// both kinds reach the kernel (their pixels differ for the models that depend on the view). That each kind's
+// pixels are the reference's is tests/test_lights.cpp's check.
+TEST_CASE("shade: the view's kind is part of the program, and each kind shades with its own", "[shade][shade_many]") {
+    for (bool perspective : {true, false}) {
+        const ProgramRequest req = shade_program(default_of("phong"), kOneDirectional, Precision::Precise, 8, perspective);
+        CHECK(std::count(req.defines.begin(), req.defines.end(), perspective ? "SL_PERSPECTIVE=1" : "SL_PERSPECTIVE=0") == 1);
+        CHECK(std::count(req.defines.begin(), req.defines.end(), perspective ? "SL_PERSPECTIVE=0" : "SL_PERSPECTIVE=1") == 0);
+    }
+    CHECK(is_perspective(glm::dvec4(0.0, 0.0, 3.0, 1.0)));
+    CHECK_FALSE(is_perspective(glm::dvec4(0.0, 0.0, 1.0, 0.0)));
+    const FragmentBuffer fb = random_fragments(1000, 13);
+    for (const char* model : {"phong", "oren_nayar", "hapke_leg", "lambert"}) {
+        INFO("model " << model);
+        const Material m = default_of(model);
+        ShadeSetup persp = setup_of(m, kOneDirectional, Precision::Precise), ortho = persp;
+        ortho.view = {0.3, 0.5, 4.0, 0.0};   // the same point of view, as a direction (made unit by the shader)
+        Runtime rt(RuntimeOptions{"", -1, "", "off"});
+        Shader own(rt), shared(rt);
+        REQUIRE(shared.prepare_many({m}, kOneDirectional, Precision::Precise, false, false) == 1);   // orthographic
+        const std::size_t before = rt.programs_built();
+        const std::vector<float> o_shared = shared.shade(fb, ortho);
+        CHECK(rt.programs_built() == before);   // the prepared program
+        const std::vector<float> p_shared = shared.shade(fb, persp);
+        CHECK(rt.programs_built() == before + 1);   // not the orthographic one: its own program
+        const std::vector<float> o_own = own.shade(fb, ortho);
+        CHECK(rt.programs_built() == before + 2);
+        CHECK(same_bits(o_shared, o_own));
+        CHECK(same_bits(p_shared, own.shade(fb, persp)));
+        if (find_model(model).normals_only) CHECK(same_bits(o_own, p_shared));
+        else CHECK_FALSE(same_bits(o_own, p_shared));
+    }
+}
+
 TEST_CASE("shade: a shared program that does not build throws and leaves shade() to the models' own programs",
           "[shade][shade_many]") {
     namespace fs = std::filesystem;
@@ -272,7 +307,7 @@ TEST_CASE("shade: sixteen lanes on an 8-lane device for the models registered wi
         INFO("model " << info.name);
         const std::size_t chains = Shader::chains_for(info, 8), per_item = 16 * chains;
         REQUIRE(Shader::frags_per_item(info, 8) == per_item);
-        const ProgramRequest req = shade_program(default_of(info.name), kOneDirectional, Precision::Precise, 8);
+        const ProgramRequest req = shade_program(default_of(info.name), kOneDirectional, Precision::Precise, 8, true);
         CHECK(std::count(req.defines.begin(), req.defines.end(), "SL_MODEL_LANES=16") == 1);
         for (Precision p : {Precision::Precise, Precision::Fast}) {
             ShadeSetup s = setup_of(default_of(info.name), kOneDirectional, p);

@@ -12,6 +12,10 @@
 
 namespace shadelab::pipeline {
 
+glm::dvec4 shade_view(const Job& job) {
+    return glm::length(job.view_direction) > 0.0 ? glm::dvec4(job.view_direction, 0.0) : glm::dvec4(job.camera.eye, 1.0);
+}
+
 namespace {
 
 using clock_type = std::chrono::steady_clock;
@@ -85,8 +89,7 @@ std::vector<float> shade_mesh(Shader& shader, const Job& job, const JobMesh& m, 
     setup.material = m.material;
     setup.lights = job.lights;
     setup.ambient = job.ambient;
-    const bool orthographic = glm::length(job.view_direction) > 0.0;
-    setup.view = orthographic ? glm::dvec4(job.view_direction, 0.0) : glm::dvec4(job.camera.eye, 1.0);
+    setup.view = shade_view(job);
     setup.precision = job.precision;
     if (!job.per_vertex) return shader.shade(fb, setup, &st);
     const auto vertex_planes = shade_vertices(shader, m.mesh, setup, &st);

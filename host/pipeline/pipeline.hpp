@@ -78,6 +78,10 @@ struct Job {
     int raster_threads = 0;            // 0: all hardware threads
 };
 
+// The job's view as ShadeSetup::view takes it: the direction to the viewer (w = 0) for an orthographic job, else
+// the camera's eye (w = 1).
+glm::dvec4 shade_view(const Job& job);
+
 // The fragments of a job: nearest per pixel over all meshes, and which mesh each came from.
 struct Frame {
     FragmentBuffer fb;

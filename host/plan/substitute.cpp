@@ -146,15 +146,17 @@ double ranking_speed(Runtime& rt, const std::string& model) {
 
 // The programs the search will use, built at once on every hardware thread (Runtime::prebuild) instead of one
 // after another at first use: every childless model's ranking and fit program (one directional light, precise:
-// fit::measure_mfrag_per_s and Shader::eval_batch build the same one) and each requested material's scene program.
+// fit::measure_mfrag_per_s and Shader::eval_batch build the same one) and each requested material's scene program
+// (all for a perspective view, as the search shades: shade_item).
 void prebuild_search(Runtime& rt, const PlanInput& in, unsigned threads) {
     const std::vector<Light> one{Light{Light::Type::Directional, {0.5, 0.7, 1.0}, {1, 1, 1}, 1.0, 0.0}};
     std::vector<ProgramRequest> programs;
     const bool ranked = std::any_of(in.items.begin(), in.items.end(),
                                     [](const PlanItem& it) { return it.material.children.empty(); });
     for (const auto& info : model_catalogue())   // only a material without children is ranked and fitted
-        if (ranked && info.children == 0 && !has_tables(info)) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise, rt.vector_width()));
-    for (const auto& it : in.items) programs.push_back(shade_program(it.material, in.lights, Precision::Precise, rt.vector_width()));
+        if (ranked && info.children == 0 && !has_tables(info)) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise, rt.vector_width(), true));
+    for (const auto& it : in.items)
+        programs.push_back(shade_program(it.material, in.lights, Precision::Precise, rt.vector_width(), true));
     prebuild(rt, programs, threads);
 }
 

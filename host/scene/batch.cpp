@@ -143,8 +143,9 @@ private:
     std::map<std::size_t, std::string> job_labels_;
     std::set<std::string> output_folders_;               // every folder an output of the batch goes to
     // The materials of the jobs to render, by what their shade kernels share (light count, all directional or
-    // not, precision): each group's models are built into programs of many models (Shader::prepare_many) when
-    // its first job shades, instead of one program per model (docs/speed.md, "A warm batch").
+    // not, precision; a scene's view is always a perspective one, prepare_many's default): each group's models are
+    // built into programs of many models (Shader::prepare_many) when its first job shades, instead of one program
+    // per model (docs/speed.md, "A warm batch").
     struct SharedPrograms {
         std::vector<Material> materials;
         std::vector<Light> lights;           // the first job's: prepare_many needs their count and kinds only

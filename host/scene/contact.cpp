@@ -23,6 +23,7 @@
 #include "pipeline/pipeline.hpp"
 #include "models/catalogue.hpp"
 #include "raster/raster.hpp"
+#include "shade/shade_program.hpp"
 #include "shade/shader.hpp"
 
 namespace fs = std::filesystem;
@@ -91,7 +92,7 @@ void share_programs(Shader& shader, const std::vector<const ModelInfo*>& models,
         }
     }
     try {
-        shader.prepare_many(mats, job.lights, job.precision, true);
+        shader.prepare_many(mats, job.lights, job.precision, true, is_perspective(pipeline::shade_view(job)));
     } catch (const Error& e) {
         log << "contact sheet: the models' shared program did not build, building one program per model: " << e.what()
             << "\n";

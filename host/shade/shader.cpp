@@ -156,7 +156,7 @@ ProgramRequest many_program(const std::vector<const ModelInfo*>& models, const P
 }  // namespace
 
 std::size_t Shader::prepare_many(const std::vector<Material>& materials, const std::vector<Light>& lights,
-                                 Precision precision, bool dispatch) {
+                                 Precision precision, bool dispatch, bool perspective) {
     struct Todo {
         std::string key;   // request_key of the model's own program
         ProgramRequest single;
@@ -167,7 +167,7 @@ std::size_t Shader::prepare_many(const std::vector<Material>& materials, const s
     for (const Material& given : materials) {
         const Material m = resolve_material(given);
         if (!shareable(m)) continue;
-        ProgramRequest single = shade_program(m, lights, precision, rt_.vector_width());
+        ProgramRequest single = shade_program(m, lights, precision, rt_.vector_width(), perspective);
         std::string key = request_key(single);
         if (many_.count(key) || !seen.insert(key).second) continue;
         todo.push_back({std::move(key), std::move(single), &find_model(m.model)});
@@ -245,12 +245,16 @@ bool all_lights_directional(const std::vector<Light>& lights) {
     return std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
 }
 
+bool is_perspective(const glm::dvec4& view) { return view.w != 0.0; }
+
 ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision,
-                              std::size_t device_width) {
+                              std::size_t device_width, bool perspective) {
     std::vector<std::string> defines = Shader::defines_for(mat, int(lights.size()), precision);
     // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
     // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
     if (all_lights_directional(lights)) defines.push_back("SL_ALL_DIRECTIONAL=1");
+    // The view's kind: the vectorised loop does not choose per fragment (kernels/shade_parts.cl, view_dir_v3).
+    defines.push_back(perspective ? "SL_PERSPECTIVE=1" : "SL_PERSPECTIVE=0");
     const ModelInfo& info = find_model(mat.model);
     if (info.normals_only)   // Shader::lanes_for
         defines.push_back("SL_MAX_LANES=" + std::to_string(Shader::kNormalsOnlyLanes));
@@ -497,7 +501,8 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     std::vector<float> rest_out(3 * rest_n);
     try {
         const auto t0 = clock::now();
-        cl::Kernel k = shade_kernel(shade_program(mat, setup.lights, setup.precision, rt_.vector_width()));
+        cl::Kernel k = shade_kernel(
+            shade_program(mat, setup.lights, setup.precision, rt_.vector_width(), is_perspective(view)));
         const auto t1 = clock::now();
         auto& ctx = rt_.context();
         auto& q = rt_.queue();
@@ -532,10 +537,10 @@ void Shader::shade_into(const FragmentBuffer& fb, const ShadeSetup& setup, std::
     }
 }
 
-// The program Shader::shade builds for `mat` and one directional light (its lanes and chains): eval_directions
-// and eval_batch run from it, so one build serves the three kernels.
+// The program Shader::shade builds for `mat`, one directional light and a perspective view (its lanes and chains):
+// eval_directions and eval_batch run from it (their kernels take V as given), so one build serves the three kernels.
 cl::Program Shader::one_light_program(const Material& mat, Precision precision) {
-    const ProgramRequest req = shade_program(mat, {Light{}}, precision, rt_.vector_width());
+    const ProgramRequest req = shade_program(mat, {Light{}}, precision, rt_.vector_width(), true);
     return rt_.build(req.main_file, req.defines, req.extra_options);
 }
 
