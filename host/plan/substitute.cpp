@@ -154,7 +154,8 @@ void prebuild_search(Runtime& rt, const PlanInput& in, unsigned threads) {
     const bool ranked = std::any_of(in.items.begin(), in.items.end(),
                                     [](const PlanItem& it) { return it.material.children.empty(); });
     for (const auto& info : model_catalogue())   // only a material without children is ranked and fitted
-        if (ranked && info.children == 0 && !has_tables(info)) programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise, rt.vector_width(), true));
+        if (ranked && info.children == 0 && !has_tables(info))
+            programs.push_back(shade_program(ranking_material(info.name), one, Precision::Precise, rt.vector_width(), true));
     for (const auto& it : in.items)
         programs.push_back(shade_program(it.material, in.lights, Precision::Precise, rt.vector_width(), true));
     prebuild(rt, programs, threads);
