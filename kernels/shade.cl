@@ -2,7 +2,8 @@
 //   SL_MODEL_HEADER  e.g. <models/lambert.cl>   the file that defines the model's eval function
 //   SL_EVAL          e.g. lambert_eval          sl_rgb f(sl_v3 N, sl_v3 L, sl_v3 V, sl_v3 P, consts*)
 //   SL_NUM_LIGHTS    number of lights (the loop is unrolled for it)
-//   SL_ALL_DIRECTIONAL  1 when every light is directional (optional)
+//   SL_POINT_LIGHTS, SL_RANGED_LIGHTS  bit l set for a point light, for one with a range (optional, together:
+//                    kernels/shade_parts.cl)
 //   SL_TABLE         1 when the model reads a per-material table (the empirical family, kernels/consts/empirical.h):
 //                    its eval takes the kernels' `tab` argument as a sixth argument (optional)
 //   SL_TABLE_KNOTS   with SL_TABLE: the most knots the material's table may have in this program (4, 8, 16, 32)

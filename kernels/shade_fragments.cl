@@ -41,7 +41,7 @@ __kernel void SL_SHADE_KERNEL(__global const float* restrict px, __global const 
 #pragma unroll
         for (int l = 0; l < SL_NUM_LIGHTS; ++l) {
             sl_v3 L;
-            const float e = light_incident_v3(&lights[l], P, &L);
+            const float e = light_incident_v3(&lights[l], l, P, &L);
             // Each light's evaluation after the previous light's (common.cl's sl_after): the unrolled loop makes
             // the model's code once per light, and LLVM's SLP vectoriser packs two such copies into <2 x float>,
             // which stops the loop vectoriser (minnaert_1941 and oren_nayar_full with two lights did).

@@ -4,7 +4,8 @@
 // models (the contact sheet) builds this once instead of one program per model: PoCL's cost of a program is
 // mostly fixed (its builtin library linked in, common.cl parsed), about 0.25 s of CPU, against about 0.1 s for
 // each kernel's first launch (docs/speed.md, "The whole process").
-// Defines, besides SL_NUM_LIGHTS, SL_ALL_DIRECTIONAL and SL_FAST as for shade.cl (the same for every model):
+// Defines, besides SL_NUM_LIGHTS, SL_POINT_LIGHTS, SL_RANGED_LIGHTS and SL_FAST as for shade.cl (the same for
+// every model):
 //   SL_HEADER_0 .. SL_HEADER_15  the models' headers, e.g. <models/phong.cl> (each family file once)
 //   SL_EVAL_0 .. SL_EVAL_63      the models' eval functions, e.g. phong_eval
 // Models with a table (SL_TABLE) or children (SL_CHILD*) keep their own programs. The slots below are written

@@ -8,12 +8,17 @@
 #ifndef SL_NUM_LIGHTS
 #define SL_NUM_LIGHTS 1
 #endif
-// SL_ALL_DIRECTIONAL=1 (set by Shader::shade when no light is a point light) removes the point-light arithmetic:
-// the vectorised work-item loop cannot branch on the light type, it computes both and selects (with the point
-// path's sqrt and three divisions Lambert ran 330-440 Mfrag/s, without 550-710: 4M fragments, one directional
-// light, two alternating runs).
-#ifndef SL_ALL_DIRECTIONAL
-#define SL_ALL_DIRECTIONAL 0
+// SL_POINT_LIGHTS and SL_RANGED_LIGHTS (set by shade_program from the scene's lights, host/shade/shader.cpp
+// light_defines): bit l of each (an unsigned long, up to 64 lights) is set when light l is a point light, and when
+// it is a point light with a range (> 0). The light loop is unrolled, so each light's kind is then known when the
+// program is built: a directional light costs no point-light arithmetic, and a point light without a range no
+// window. Without them the kind is read per light at run time, and the vectorised work-item loop, which cannot
+// branch on it, computes both kinds and selects: with the point path's square root and three divisions Lambert
+// ran 330-440 Mfrag/s, without 550-710 (4M fragments, one directional light, two alternating runs); with a
+// directional and a point light, most models ran 1.1-1.8x as fast (medians of three rounds, 1M and 4M) with the
+// kinds in the program (docs/speed.md, "Light kinds at build time").
+#if defined(SL_POINT_LIGHTS) != defined(SL_RANGED_LIGHTS)
+#error "SL_POINT_LIGHTS and SL_RANGED_LIGHTS are set together"
 #endif
 
 // Every kernel below takes the material's table buffer `tab` as its last argument (a 1-float buffer, never read,
@@ -30,14 +35,20 @@
 // and PoCL's loop vectoriser runs 8 fragments per instruction ("vectorized loop (vectorization width: 8)" with
 // POCL_VECTORIZER_REMARKS=1; docs/precision.md, "Vectorised kernels", lists what it took and what is not).
 
-// Irradiance-like factor and direction of light `li` at P, in scalars: returns the factor that scales the
-// light's radiance and sets *L to the unit direction to it. Directional lights are unattenuated (factor 1);
-// point lights fall off with the inverse square of distance, optionally windowed to zero at `range` with
-// (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
-SL_INLINE float light_incident_v3(const DeviceLight* li, sl_v3 P, sl_v3* L) {
+// Irradiance-like factor and direction of light `li` (light number `l` of the scene) at P, in scalars: returns
+// the factor that scales the light's radiance and sets *L to the unit direction to it. Directional lights are
+// unattenuated (factor 1); point lights fall off with the inverse square of distance, optionally windowed to zero
+// at `range` with (1 - (d/range)^4)^2 (Karis 2013, "Real Shading in Unreal Engine 4") so they can be culled.
+SL_INLINE float light_incident_v3(const DeviceLight* li, int l, sl_v3 P, sl_v3* L) {
     const sl_v3 pos = sl_v3_make(li->pos_or_dir[0], li->pos_or_dir[1], li->pos_or_dir[2]);
     const float range = li->range;   // read before the branch: a load under it would not be hoisted (a gather)
-    if (SL_ALL_DIRECTIONAL || li->type == 0.0f) {
+#if defined(SL_POINT_LIGHTS)
+    const int point = (int)((SL_POINT_LIGHTS >> l) & 1ul), ranged = (int)((SL_RANGED_LIGHTS >> l) & 1ul);
+#else
+    (void)l;
+    const int point = li->type != 0.0f, ranged = 1;
+#endif
+    if (!point) {
         *L = pos;
         return 1.0f;
     }
@@ -45,7 +56,7 @@ SL_INLINE float light_incident_v3(const DeviceLight* li, sl_v3 P, sl_v3* L) {
     const float d2 = fmax(sl_dot(d, d), 1e-12f);   // a light exactly at the surface point: no direction
     *L = sl_scale(d, rsqrt(d2));
     float window = 1.0f;
-    if (range > 0.0f) {
+    if (ranged && range > 0.0f) {
         const float q = d2 / (range * range);
         window = sl_saturate(1.0f - q * q);
         window *= window;

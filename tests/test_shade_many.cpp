@@ -195,6 +195,62 @@ TEST_CASE("shade: the view's kind is part of the program, and each kind shades w
     }
 }
 
+// Each light's kind (directional, point, point with a range) is built into the shade programs (SL_POINT_LIGHTS,
+// SL_RANGED_LIGHTS, kernels/shade_parts.cl): the masks follow the lights in order, a program prepared for one
+// pattern of kinds is not used for another, and the pixels are those of the kinds read per light at run time
+// (SHADELAB_LIGHT_KINDS=0, the kernel's way without the defines), bit for bit. That they are the reference's is
+// tests/test_lights.cpp's check (its lights mix the three kinds).
+TEST_CASE("shade: each light's kind is part of the program, with the pixels of the kinds read at run time",
+          "[shade][shade_many]") {
+    const Light dir{Light::Type::Directional, {1.0, 1.0, 1.0}, {1.0, 0.9, 0.8}, 1.0, 0.0};
+    const Light point{Light::Type::Point, {-2.0, 3.0, 2.5}, {0.5, 0.6, 1.0}, 4.0, 0.0};
+    const Light ranged{Light::Type::Point, {1.0, 2.0, -3.0}, {0.9, 0.6, 0.5}, 9.0, 6.0};
+    const std::vector<Light> dprd{dir, point, ranged, dir};
+    CHECK(light_kinds(dprd) == "dprd");
+    CHECK(light_defines(dprd) == std::vector<std::string>{"SL_POINT_LIGHTS=0x6ul", "SL_RANGED_LIGHTS=0x4ul"});
+    CHECK(light_defines(kOneDirectional) == std::vector<std::string>{"SL_POINT_LIGHTS=0x0ul", "SL_RANGED_LIGHTS=0x0ul"});
+    const std::vector<Light> many(64, ranged);
+    CHECK(light_defines(many) == std::vector<std::string>{"SL_POINT_LIGHTS=0xfffffffffffffffful",
+                                                          "SL_RANGED_LIGHTS=0xfffffffffffffffful"});
+    CHECK(light_defines(std::vector<Light>(65, dir)).empty());   // more than the masks hold: read at run time
+    {
+        test::ScopedEnv off("SHADELAB_LIGHT_KINDS", "0");
+        CHECK(light_defines(dprd).empty());
+        CHECK_FALSE(light_kinds_in_programs());
+    }
+    {
+        test::ScopedEnv bad("SHADELAB_LIGHT_KINDS", "yes");
+        CHECK_THROWS_WITH(light_defines(dprd), Catch::Contains("SHADELAB_LIGHT_KINDS is 'yes'"));
+    }
+    const FragmentBuffer fb = random_fragments(1000, 17);
+    const std::vector<Light> dp{dir, point}, pd{point, dir}, dr{dir, ranged};
+    for (const char* model : {"lambert", "blinn_phong", "oren_nayar_full", "cook_torrance", "hapke_hen"}) {
+        INFO("model " << model);
+        const Material m = default_of(model);
+        Runtime rt(RuntimeOptions{"", -1, "", "off"});
+        Shader shared(rt), own(rt);
+        REQUIRE(shared.prepare_many({m}, dp, Precision::Precise) == 1);
+        const std::size_t before = rt.programs_built();
+        const std::vector<float> dp_shared = shared.shade(fb, setup_of(m, dp, Precision::Precise));
+        CHECK(rt.programs_built() == before);   // the prepared program
+        for (const std::vector<Light>* lights : {&pd, &dr}) {   // the same count, other kinds: their own programs
+            const std::size_t built = rt.programs_built();
+            const std::vector<float> kinds_built = shared.shade(fb, setup_of(m, *lights, Precision::Precise));
+            CHECK(rt.programs_built() == built + 1);
+            test::ScopedEnv off("SHADELAB_LIGHT_KINDS", "0");
+            CHECK(same_bits(kinds_built, own.shade(fb, setup_of(m, *lights, Precision::Precise))));
+        }
+        const std::vector<float> dprd_fast = own.shade(fb, setup_of(m, dprd, Precision::Fast));   // four lights
+        test::ScopedEnv off("SHADELAB_LIGHT_KINDS", "0");
+        const std::size_t built = rt.programs_built();
+        CHECK(same_bits(dp_shared, own.shade(fb, setup_of(m, dp, Precision::Precise))));
+        CHECK(same_bits(dprd_fast, own.shade(fb, setup_of(m, dprd, Precision::Fast))));
+        // the kinds read at run time: one program for every pattern of a light count (the two-light one was built
+        // in the loop above), the four lights' in fast mode new
+        CHECK(rt.programs_built() == built + 1);
+    }
+}
+
 TEST_CASE("shade: a shared program that does not build throws and leaves shade() to the models' own programs",
           "[shade][shade_many]") {
     namespace fs = std::filesystem;

@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "models/catalogue.hpp"
+#include "shade/shade_program.hpp"
 #include "shade/shader.hpp"
 
 namespace shadelab::app {
@@ -184,6 +185,7 @@ void add_devices_command(CLI::App& app) {
         const std::string wide = wide_lane_models(rt.vector_width());     // likewise a bad SHADELAB_WIDE_LANES
         const bool stream_all = Shader::streams_output(1);  // likewise a bad SHADELAB_STREAM_STORES
         const bool stream_none = !Shader::streams_output(std::size_t(1) << 40);
+        const bool kinds = light_kinds_in_programs();        // likewise a bad SHADELAB_LIGHT_KINDS
         std::cout << "device:  " << rt.device_description() << "\n"
                   << "kernels: " << rt.kernel_dir() << "\n"
                   << "lanes:   " << rt.vector_width() << " fragments a shading work-item (SHADELAB_VECTOR_WIDTH); "
@@ -203,6 +205,9 @@ void add_devices_command(CLI::App& app) {
                                           half_line_models(rt.vector_width()) +
                                           " (a work-item's block is part of a line on this device)")
                   << " (SHADELAB_STREAM_STORES=0 or 1 sets every launch's)\n"
+                  << "lights:  each light's kind (directional, point, point with a range) "
+                  << (kinds ? "built into the shade programs" : "read per light at run time")
+                  << " (SHADELAB_LIGHT_KINDS=0 or 1)\n"
                   << "choose another with SHADELAB_CL_PLATFORM=<name part> and SHADELAB_CL_DEVICE=<index>\n";
     });
 }

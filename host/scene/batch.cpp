@@ -142,8 +142,8 @@ private:
     std::map<std::string, std::size_t> first_writer_;   // output path -> index of the first job writing it
     std::map<std::size_t, std::string> job_labels_;
     std::set<std::string> output_folders_;               // every folder an output of the batch goes to
-    // The materials of the jobs to render, by what their shade kernels share (light count, all directional or
-    // not, precision; a scene's view is always a perspective one, prepare_many's default): each group's models are
+    // The materials of the jobs to render, by what their shade kernels share (every light's kind, in order, and
+    // the precision; a scene's view is always a perspective one, prepare_many's default): each group's models are
     // built into programs of many models (Shader::prepare_many) when its first job shades, instead of one program
     // per model (docs/speed.md, "A warm batch").
     struct SharedPrograms {
@@ -157,8 +157,7 @@ private:
 
 // The kernels of two jobs can share a program when these agree (shade_program's defines besides the model's).
 std::string shared_program_group(const std::vector<Light>& lights, Precision precision) {
-    return std::to_string(lights.size()) + (all_lights_directional(lights) ? " directional " : " mixed ") +
-           precision_name(precision);
+    return light_kinds(lights) + " " + precision_name(precision);   // the count and every light's kind
 }
 
 // Two jobs writing the same file would race (and the last one would silently win). Every job of the full

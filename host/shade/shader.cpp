@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -241,8 +242,32 @@ std::vector<std::string> Shader::defines_for(const Material& m, int num_lights, 
     return d;
 }
 
-bool all_lights_directional(const std::vector<Light>& lights) {
-    return std::all_of(lights.begin(), lights.end(), [](const Light& l) { return l.type == Light::Type::Directional; });
+std::string light_kinds(const std::vector<Light>& lights) {
+    std::string kinds;
+    for (const Light& l : lights) kinds += l.type == Light::Type::Directional ? 'd' : (l.range > 0.0 ? 'r' : 'p');
+    return kinds;
+}
+
+bool light_kinds_in_programs() {
+    return env_switch("SHADELAB_LIGHT_KINDS", "0", "1", "each light's kind read at run time or built into the program")
+        .value_or(true);
+}
+
+std::vector<std::string> light_defines(const std::vector<Light>& lights) {
+    // more than the masks hold (a scene has at most 64), or SHADELAB_LIGHT_KINDS=0: the kinds read at run time
+    if (lights.size() > 64 || !light_kinds_in_programs()) return {};
+    std::uint64_t point = 0, ranged = 0;
+    const std::string kinds = light_kinds(lights);
+    for (std::size_t l = 0; l < kinds.size(); ++l) {
+        if (kinds[l] != 'd') point |= std::uint64_t(1) << l;
+        if (kinds[l] == 'r') ranged |= std::uint64_t(1) << l;
+    }
+    auto mask = [](std::uint64_t m) {   // an unsigned long literal of OpenCL C (64 bits)
+        char text[32];
+        std::snprintf(text, sizeof text, "0x%llxul", static_cast<unsigned long long>(m));
+        return std::string(text);
+    };
+    return {"SL_POINT_LIGHTS=" + mask(point), "SL_RANGED_LIGHTS=" + mask(ranged)};
 }
 
 bool is_perspective(const glm::dvec4& view) { return view.w != 0.0; }
@@ -250,9 +275,10 @@ bool is_perspective(const glm::dvec4& view) { return view.w != 0.0; }
 ProgramRequest shade_program(const Material& mat, const std::vector<Light>& lights, Precision precision,
                               std::size_t device_width, bool perspective) {
     std::vector<std::string> defines = Shader::defines_for(mat, int(lights.size()), precision);
-    // Only directional lights: the kernel is built without the point-light arithmetic, which the vectorised
-    // work-item loop would otherwise compute for every fragment (kernels/shade.cl, light_incident_v3).
-    if (all_lights_directional(lights)) defines.push_back("SL_ALL_DIRECTIONAL=1");
+    // Each light's kind: the kernel computes no point-light arithmetic for a directional light and no window for a
+    // point light without a range, which the vectorised work-item loop would otherwise compute for every fragment
+    // and light (kernels/shade_parts.cl, light_incident_v3).
+    for (std::string& d : light_defines(lights)) defines.push_back(std::move(d));
     // The view's kind: the vectorised loop does not choose per fragment (kernels/shade_parts.cl, view_dir_v3).
     defines.push_back(perspective ? "SL_PERSPECTIVE=1" : "SL_PERSPECTIVE=0");
     const ModelInfo& info = find_model(mat.model);
