@@ -208,7 +208,8 @@ TEST_CASE("shade: each light's kind is part of the program, with the pixels of t
     const std::vector<Light> dprd{dir, point, ranged, dir};
     CHECK(light_kinds(dprd) == "dprd");
     CHECK(light_defines(dprd) == std::vector<std::string>{"SL_POINT_LIGHTS=0x6ul", "SL_RANGED_LIGHTS=0x4ul"});
-    CHECK(light_defines(kOneDirectional) == std::vector<std::string>{"SL_POINT_LIGHTS=0x0ul", "SL_RANGED_LIGHTS=0x0ul"});
+    CHECK(light_defines(kOneDirectional) ==
+          std::vector<std::string>{"SL_POINT_LIGHTS=0x0ul", "SL_RANGED_LIGHTS=0x0ul"});
     const std::vector<Light> many(64, ranged);
     CHECK(light_defines(many) == std::vector<std::string>{"SL_POINT_LIGHTS=0xfffffffffffffffful",
                                                           "SL_RANGED_LIGHTS=0xfffffffffffffffful"});

@@ -64,10 +64,10 @@ public:
     // shading them all costs one program build instead of one per model (PoCL's cost of a program is mostly
     // fixed: docs/speed.md, "The whole process"). Covers the materials without tables or children (those keep
     // their own programs) whose program is not prepared yet; shade() of a covered material with the same lights
-    // (count, all directional or not), precision and kind of view (`perspective`: shade_program.hpp,
-    // is_perspective) then uses its kernel there, the same code as its own program's. Returns how many distinct
-    // models it added. A build failure throws shadelab::Error (nothing is added; shade() then builds each
-    // material's own program).
+    // (every light's kind in order: shade_program.hpp, light_kinds), precision and kind of view (`perspective`:
+    // shade_program.hpp, is_perspective) then uses its kernel there, the same code as its own program's. Returns
+    // how many distinct models it added. A build failure throws shadelab::Error (nothing is added; shade() then
+    // builds each material's own program).
     // `dispatch` true: each program holds one kernel for all its models (shade_fragments_any, picking the model by
     // an argument) instead of one per model, so PoCL compiles one work-group function at the first launch instead
     // of one per model (about 0.09 s of CPU each). The same pixels, but the kernel is not vectorised: for a cold
