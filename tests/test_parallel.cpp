@@ -4,8 +4,12 @@
 // still run every part; an exception from any part reaches the caller after every part has returned; a child
 // made by fork() (whose parent's workers do not exist there) runs every part too.
 // run_pieces, on top of it: every piece exactly once, none past the end, whatever the thread and piece counts.
+// populate_in_parallel (host/raster/big_buffer.hpp), which faults a fresh buffer's pages in on several threads:
+// every page of its range resident afterwards and none outside it touched, and size_for_frame's fresh buffers
+// still all zeros.
 #include <catch2/catch.hpp>
 
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "raster/big_buffer.hpp"
 #include "raster/parallel.hpp"
 
 using namespace shadelab;
@@ -127,4 +132,77 @@ TEST_CASE("run_pieces: every piece exactly once, for 0 to 40 pieces on 1 to 4 th
                 for (std::size_t i = 0; i < pieces; ++i) REQUIRE(runs[i] == 1);
                 REQUIRE(runs[pieces] == 0);   // no index past the end
             }
+}
+
+#ifdef MADV_POPULATE_WRITE
+namespace {
+
+// Pages of [p, p + bytes) (p page-aligned) that are resident, from mincore.
+std::vector<unsigned char> resident_pages(const char* p, std::size_t bytes) {
+    const std::size_t page = std::size_t(::sysconf(_SC_PAGESIZE));
+    std::vector<unsigned char> in((bytes + page - 1) / page);
+    REQUIRE(::mincore(const_cast<char*>(p), bytes, in.data()) == 0);
+    for (unsigned char& c : in) c &= 1;
+    return in;
+}
+
+}  // namespace
+
+TEST_CASE("populate_in_parallel: every page of the range resident, none beside it, on 1 to 4 threads",
+          "[parallel]") {
+    const std::size_t page = std::size_t(::sysconf(_SC_PAGESIZE)), mb = std::size_t(1) << 20;
+    // A mapping with 4 MB on each side of the range, in 4 KB pages (no huge page may spill over the range's ends).
+    const std::size_t guard = 4 * mb, most = 40 * mb, total = guard + most + guard;
+    void* const map = ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    REQUIRE(map != MAP_FAILED);
+    char* const base = static_cast<char*>(map);
+    ::madvise(base, total, MADV_NOHUGEPAGE);
+    if (::madvise(base, page, MADV_POPULATE_WRITE) != 0) {
+        ::munmap(map, total);
+        WARN("this kernel has no MADV_POPULATE_WRITE (Linux 5.14): populate_in_parallel does nothing here");
+        return;
+    }
+    ::madvise(base, page, MADV_DONTNEED);   // the probe's page is not resident again
+    // (offset into the range, bytes): from the first size populated in parallel on, whole and partial pages at
+    // both ends, ranges that are not a multiple of the 2 MB cut
+    const std::pair<std::size_t, std::size_t> cases[] = {{0, kPopulateInParallelBytes},
+                                                         {100, kPopulateInParallelBytes + 3 * page + 17},
+                                                         {page, 37 * mb + 5 * page},
+                                                         {3 * page + 1, most - 4 * page - 1}};
+    for (int threads = 1; threads <= 4; ++threads)
+        for (const auto& [offset, bytes] : cases) {
+            INFO(threads << " threads, offset " << offset << ", " << bytes << " bytes");
+            ::madvise(base, total, MADV_DONTNEED);   // every page fresh again
+            const std::vector<unsigned char> before = resident_pages(base, total);
+            REQUIRE(std::count(before.begin(), before.end(), 1) == 0);
+            char* const p = base + guard + offset;
+            populate_in_parallel(p, bytes, threads);
+            const std::vector<unsigned char> in = resident_pages(base, total);
+            const std::size_t first = (guard + offset + page - 1) / page, end = (guard + offset + bytes) / page;
+            std::size_t inside = 0, outside = 0;
+            for (std::size_t i = 0; i < in.size(); ++i) (i >= first && i < end ? inside : outside) += in[i];
+            if (threads == 1) {
+                CHECK(inside == 0);   // one thread: left to the first writes
+            } else {
+                CHECK(inside == end - first);
+            }
+            CHECK(outside == 0);
+        }
+    ::munmap(map, total);
+}
+#endif
+
+TEST_CASE("size_for_frame: a fresh buffer populated on several threads holds n zeros; a reused one keeps its memory",
+          "[parallel]") {
+    for (const std::size_t n : {std::size_t(1000), (kPopulateInParallelBytes / sizeof(float)) + 12345}) {
+        std::vector<float> v;
+        size_for_frame(v, n);
+        REQUIRE(v.size() == n);
+        CHECK(std::count(v.begin(), v.end(), 0.0f) == std::ptrdiff_t(n));
+        std::fill(v.begin(), v.end(), 2.0f);
+        const float* const mem = v.data();
+        size_for_frame(v, n / 2);
+        CHECK(v.data() == mem);
+        CHECK(v.size() == n / 2);
+    }
 }

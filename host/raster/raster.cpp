@@ -2054,7 +2054,7 @@ void size_fragments(FragmentBuffer& fb, std::size_t n, bool triangle_ids, int th
     const int workers = grows ? std::min(threads, int(arrays)) : 1;
     run_parallel(workers, [&](int t) {
         for (std::size_t k = std::size_t(t); k < arrays; k += std::size_t(workers))
-            k < floats ? size_for_frame(*f[k], n) : size_for_frame(*i[k - floats], n);
+            k < floats ? size_for_frame(*f[k], n, 1) : size_for_frame(*i[k - floats], n, 1);
     });
 }
 
