@@ -318,7 +318,8 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u(-0.1f, 1.2f);
     const ImageWriteOptions defaults;
-    const ImageWriteOptions settings[] = {defaults, {6, 0, "zips"}, {9, 8, "zips"}, {0, 248, "zips"}, {1, 16, "zips"}};
+    const ImageWriteOptions settings[] = {defaults, {6, 0, "zips"}, {9, 8, "zips"}, {0, 248, "zips"}, {1, 16, "zips"},
+                                           {1, 128, "zips"}};
     int cases = 0;
     for (int channels = 1; channels <= 4; ++channels) {
         for (const ImageWriteOptions& o : settings) {
@@ -335,7 +336,7 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
             ++cases;
         }
     }
-    CHECK(cases == 20);
+    CHECK(cases == 24);
     // a large image: several of the pipeline's row blocks (about 1 MB each)
     Image big(1500, 700, 4);
     for (float& v : big.pixels) v = u(rng);
