@@ -192,7 +192,7 @@ TEST_CASE("populate_in_parallel: every page of the range resident, none beside i
 }
 #endif
 
-TEST_CASE("size_for_frame: a fresh buffer populated on several threads holds n zeros; a reused one keeps its memory",
+TEST_CASE("size_for_frame: a fresh buffer populated on several threads holds n zeros, and a reused one keeps its memory",
           "[parallel]") {
     for (const std::size_t n : {std::size_t(1000), (kPopulateInParallelBytes / sizeof(float)) + 12345}) {
         std::vector<float> v;
