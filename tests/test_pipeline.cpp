@@ -79,6 +79,68 @@ TEST_CASE("pipeline: each mesh of a merged job shades exactly as when rendered a
     }
 }
 
+TEST_CASE("pipeline: the merge of overlapping meshes keeps the nearest fragment of every pixel, the earlier mesh on "
+          "a tie, as a per-pixel search over each mesh rasterised alone",
+          "[pipeline]") {
+    // Three spheres that overlap on screen, the second twice (every depth of the copy ties with the first's), and
+    // one behind the camera (no fragments); 640x400 pixels: several threads' ranges and many of the merge's blocks.
+    pipeline::Job job = two_spheres_job(false);
+    job.meshes.insert(job.meshes.begin() + 1, sphere_at(0.0, "oren_nayar"));
+    const pipeline::JobMesh copy_of_second = job.meshes[1];
+    job.meshes.insert(job.meshes.begin() + 2, copy_of_second);
+    job.meshes.push_back(sphere_at(0.0, "lambert"));   // its centre as far behind the eye as the target is before it
+    job.meshes.back().mesh.transform(glm::translate(glm::dmat4(1.0), 2.0 * job.camera.eye - job.camera.target));
+    job.width = 640;
+    job.height = 400;
+    for (const bool ids : {true, false}) {
+        job.triangle_ids = ids;
+        pipeline::StageTimes t;
+        const pipeline::Frame frame = pipeline::raster(job, t);
+        // the reference: every mesh alone, then per pixel the least depth, the first mesh that has it
+        const std::size_t npix = std::size_t(job.width) * std::size_t(job.height);
+        std::vector<float> best(npix, std::numeric_limits<float>::infinity());
+        std::vector<int> mesh(npix, -1);
+        std::vector<std::size_t> index(npix, 0);
+        std::vector<pipeline::Frame> alone_frames;
+        for (std::size_t k = 0; k < job.meshes.size(); ++k) {
+            alone_frames.push_back(pipeline::raster(alone(job, k), t));
+            const FragmentBuffer& f = alone_frames.back().fb;
+            for (std::size_t i = 0; i < f.size(); ++i) {
+                const std::size_t p = std::size_t(f.pixel[i]);
+                if (f.depth[i] < best[p]) {
+                    best[p] = f.depth[i];
+                    mesh[p] = int(k);
+                    index[p] = i;
+                }
+            }
+        }
+        CAPTURE(ids);
+        REQUIRE(alone_frames.back().fb.size() == 0);   // the sphere behind the camera
+        std::size_t covered = 0, second = 0, copy = 0;
+        for (std::size_t p = 0; p < npix; ++p) {
+            if (mesh[p] < 0) continue;
+            REQUIRE(covered < frame.fb.size());
+            const FragmentBuffer& f = alone_frames[std::size_t(mesh[p])].fb;
+            const std::size_t i = index[p], k = covered++;
+            REQUIRE(std::size_t(frame.fb.pixel[k]) == p);   // in pixel order, every covered pixel once
+            REQUIRE(int(frame.mesh_of[k]) == mesh[p]);
+            REQUIRE((frame.fb.depth[k] == f.depth[i] && frame.fb.px[k] == f.px[i] && frame.fb.py[k] == f.py[i] &&
+                     frame.fb.pz[k] == f.pz[i] && frame.fb.nx[k] == f.nx[i] && frame.fb.ny[k] == f.ny[i] &&
+                     frame.fb.nz[k] == f.nz[i]));
+            if (ids) {
+                REQUIRE((frame.fb.triangle[k] == f.triangle[i] && frame.fb.b1[k] == f.b1[i] &&
+                         frame.fb.b2[k] == f.b2[i]));
+            }
+            second += mesh[p] == 1 ? 1 : 0;
+            copy += mesh[p] == 2 ? 1 : 0;
+        }
+        CHECK(covered == frame.fb.size());
+        CHECK(frame.fb.triangle.size() == (ids ? covered : 0));
+        CHECK(second > 1000);   // the middle sphere is in front of the others where they overlap
+        CHECK(copy == 0);       // its copy ties everywhere and loses
+    }
+}
+
 TEST_CASE("pipeline: per vertex differs from per pixel on a coarse sphere, and the AOVs hold depth and normal",
           "[pipeline]") {
     Shader shader(test::runtime());

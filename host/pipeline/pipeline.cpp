@@ -1,6 +1,7 @@
 // The render path's stages (see pipeline.hpp).
 #include "pipeline/pipeline.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <sstream>
@@ -8,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/format.hpp"
 #include "raster/big_buffer.hpp"
+#include "raster/parallel.hpp"
 #include "raster/raster.hpp"
 #include "shade/gouraud.hpp"
 
@@ -26,6 +28,56 @@ double ms_since(clock_type::time_point t0) {
 
 // Nearest fragment per pixel over all meshes (ties: the earlier mesh), in pixel order; triangle ids and
 // barycentrics come along when the rasteriser gave them (per-vertex shading needs them).
+//
+// Each part is in pixel order, as the rasteriser emits it (checked), so the parts are merged as sorted lists: the
+// image is cut into one range of pixels a thread, each range walked in blocks of kMergeBlock pixels with a cursor
+// a part, and a block's nearest fragments found in a small array of the block's own (in cache). Two passes: the
+// first counts each range's winners, which gives every range its place in the output; the second writes them.
+// (It replaced arrays of the whole image's depth and winners, 12 bytes a pixel, and push_back into the output:
+// 150-200 ms of a 3-mesh scene at 4096x2048 on one thread.)
+constexpr std::size_t kMergeBlock = std::size_t(1) << 14;
+constexpr std::uint32_t kNoPart = 0xffffffffu;
+
+// Calls winner(m, i) for the nearest fragment (part m, index i) of every covered pixel in [p0, p1), in pixel
+// order; `at` starts at each part's first fragment at or after p0 and ends past p1's.
+template <class Winner>
+void merge_range(const std::vector<FragmentBuffer>& parts, std::size_t p0, std::size_t p1, std::vector<std::size_t>& at,
+                 const Winner& winner) {
+    std::vector<float> best(kMergeBlock);
+    std::vector<std::uint32_t> part(kMergeBlock), index(kMergeBlock);
+    for (std::size_t b0 = p0; b0 < p1; b0 += kMergeBlock) {
+        const std::size_t b1 = std::min(p1, b0 + kMergeBlock), n = b1 - b0;
+        std::fill(best.begin(), best.begin() + std::ptrdiff_t(n), std::numeric_limits<float>::infinity());
+        std::fill(part.begin(), part.begin() + std::ptrdiff_t(n), kNoPart);
+        for (std::size_t m = 0; m < parts.size(); ++m) {
+            const FragmentBuffer& f = parts[m];
+            std::size_t i = at[m];
+            for (; i < f.size() && std::size_t(f.pixel[i]) < b1; ++i) {
+                const std::size_t q = std::size_t(f.pixel[i]) - b0;
+                if (f.depth[i] < best[q]) {
+                    best[q] = f.depth[i];
+                    part[q] = std::uint32_t(m);
+                    index[q] = std::uint32_t(i);
+                }
+            }
+            at[m] = i;
+        }
+        for (std::size_t q = 0; q < n; ++q)
+            if (part[q] != kNoPart) winner(part[q], index[q]);
+    }
+}
+
+// Every part's pixel indices inside the image and non-decreasing (the rasteriser's order); the merge needs it.
+void require_pixel_order(const std::vector<FragmentBuffer>& parts, std::size_t npix) {
+    for (std::size_t m = 0; m < parts.size(); ++m) {
+        const std::vector<std::int32_t>& p = parts[m].pixel;
+        for (std::size_t i = 0; i < p.size(); ++i)
+            if (p[i] < 0 || std::size_t(p[i]) >= npix || (i > 0 && p[i] < p[i - 1]))
+                throw Error("internal: mesh " + std::to_string(m) + "'s fragment " + std::to_string(i) +
+                            " is not in pixel order inside the image (pixel " + std::to_string(p[i]) + ")");
+    }
+}
+
 void merge_by_depth(std::vector<FragmentBuffer>& parts, Frame& frame) {
     FragmentBuffer& out = frame.fb;
     std::vector<std::uint16_t>& mesh_of = frame.mesh_of;
@@ -35,51 +87,88 @@ void merge_by_depth(std::vector<FragmentBuffer>& parts, Frame& frame) {
         return;
     }
     const std::size_t npix = std::size_t(parts[0].width) * std::size_t(parts[0].height);
-    std::vector<float> best(npix, std::numeric_limits<float>::infinity());
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> who(npix, {0xffffffffu, 0});
-    for (std::size_t m = 0; m < parts.size(); ++m)
-        for (std::size_t i = 0; i < parts[m].size(); ++i) {
-            const std::size_t p = std::size_t(parts[m].pixel[i]);
-            if (parts[m].depth[i] < best[p]) {
-                best[p] = parts[m].depth[i];
-                who[p] = {std::uint32_t(m), std::uint32_t(i)};
-            }
+    require_pixel_order(parts, npix);
+    // (a part with no fragments has no ids either: the job asked for them or not, for every mesh)
+    const bool ids =
+        std::any_of(parts.begin(), parts.end(), [](const FragmentBuffer& f) { return !f.triangle.empty(); });
+    const int threads = thread_count(0, npix / (4 * kMergeBlock));
+    // each range's cursors where it starts, and its winners' count (pass 1) then first output index
+    std::vector<std::vector<std::size_t>> start(std::size_t(threads), std::vector<std::size_t>(parts.size()));
+    std::vector<std::size_t> first(std::size_t(threads) + 1, 0);
+    run_parallel(threads, [&](int t) {
+        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
+        std::vector<std::size_t>& at = start[std::size_t(t)];
+        for (std::size_t m = 0; m < parts.size(); ++m) {
+            const std::vector<std::int32_t>& p = parts[m].pixel;
+            at[m] = std::size_t(std::lower_bound(p.begin(), p.end(), std::int32_t(p0)) - p.begin());
         }
+        std::vector<std::size_t> walk = at;
+        std::size_t count = 0;
+        merge_range(parts, p0, p1, walk, [&](std::uint32_t, std::uint32_t) { ++count; });
+        first[std::size_t(t) + 1] = count;
+    });
+    for (int t = 0; t < threads; ++t) first[std::size_t(t) + 1] += first[std::size_t(t)];
+    const std::size_t total = first.back();
     out = FragmentBuffer{};
     out.width = parts[0].width;
     out.height = parts[0].height;
-    mesh_of.clear();
-    for (std::size_t p = 0; p < npix; ++p) {
-        if (who[p].first == 0xffffffffu) continue;
-        const FragmentBuffer& f = parts[who[p].first];
-        const std::size_t i = who[p].second;
-        out.push_back(f.px[i], f.py[i], f.pz[i], f.nx[i], f.ny[i], f.nz[i], f.pixel[i], f.depth[i]);
-        if (!f.triangle.empty()) {
-            out.triangle.push_back(f.triangle[i]);
-            out.b1.push_back(f.b1[i]);
-            out.b2.push_back(f.b2[i]);
-        }
-        mesh_of.push_back(std::uint16_t(who[p].first));
-    }
+    std::vector<std::vector<float>*> floats = {&out.px, &out.py, &out.pz, &out.nx, &out.ny, &out.nz, &out.depth};
+    if (ids) floats.insert(floats.end(), {&out.b1, &out.b2});
+    for (std::vector<float>* v : floats) size_for_frame(*v, total);
+    size_for_frame(out.pixel, total);
+    if (ids) size_for_frame(out.triangle, total);
+    size_for_frame(mesh_of, total);
+    run_parallel(threads, [&](int t) {
+        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
+        std::size_t k = first[std::size_t(t)];
+        merge_range(parts, p0, p1, start[std::size_t(t)], [&](std::uint32_t m, std::uint32_t i) {
+            const FragmentBuffer& f = parts[m];
+            out.px[k] = f.px[i];
+            out.py[k] = f.py[i];
+            out.pz[k] = f.pz[i];
+            out.nx[k] = f.nx[i];
+            out.ny[k] = f.ny[i];
+            out.nz[k] = f.nz[i];
+            out.pixel[k] = f.pixel[i];
+            out.depth[k] = f.depth[i];
+            if (ids) {
+                out.triangle[k] = f.triangle[i];
+                out.b1[k] = f.b1[i];
+                out.b2[k] = f.b2[i];
+            }
+            mesh_of[k++] = std::uint16_t(m);
+        });
+    });
 }
 
-// The fragments of mesh `mi` (with their triangle ids and barycentrics, for per-vertex shading).
+// The fragments of mesh `mi` (with their triangle ids and barycentrics, for per-vertex shading); idx gets their
+// places in the frame.
 FragmentBuffer fragments_of(const Frame& frame, std::size_t mi, std::vector<std::size_t>& idx) {
     const FragmentBuffer& fb = frame.fb;
     idx.clear();
     for (std::size_t i = 0; i < fb.size(); ++i)
         if (frame.mesh_of[i] == mi) idx.push_back(i);
+    const std::size_t n = idx.size();
+    const bool ids = !fb.triangle.empty();
     FragmentBuffer sub;
     sub.width = fb.width;
     sub.height = fb.height;
-    sub.reserve(idx.size());
-    for (std::size_t i : idx) {
-        sub.push_back(fb.px[i], fb.py[i], fb.pz[i], fb.nx[i], fb.ny[i], fb.nz[i], fb.pixel[i], fb.depth[i]);
-        if (!fb.triangle.empty()) {
-            sub.triangle.push_back(fb.triangle[i]);
-            sub.b1.push_back(fb.b1[i]);
-            sub.b2.push_back(fb.b2[i]);
-        }
+    const auto gather = [&](auto& to, const auto& from) {
+        to.resize(n);
+        for (std::size_t k = 0; k < n; ++k) to[k] = from[idx[k]];
+    };
+    gather(sub.px, fb.px);
+    gather(sub.py, fb.py);
+    gather(sub.pz, fb.pz);
+    gather(sub.nx, fb.nx);
+    gather(sub.ny, fb.ny);
+    gather(sub.nz, fb.nz);
+    gather(sub.pixel, fb.pixel);
+    gather(sub.depth, fb.depth);
+    if (ids) {
+        gather(sub.triangle, fb.triangle);
+        gather(sub.b1, fb.b1);
+        gather(sub.b2, fb.b2);
     }
     return sub;
 }
