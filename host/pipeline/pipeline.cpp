@@ -38,6 +38,23 @@ double ms_since(clock_type::time_point t0) {
 constexpr std::size_t kMergeBlock = std::size_t(1) << 14;
 constexpr std::uint32_t kNoPart = 0xffffffffu;
 
+// Fragment i of `from` as fragment k of `to` (whose arrays hold k; the triangle ids and barycentrics with `ids`).
+void copy_fragment(FragmentBuffer& to, std::size_t k, const FragmentBuffer& from, std::size_t i, bool ids) {
+    to.px[k] = from.px[i];
+    to.py[k] = from.py[i];
+    to.pz[k] = from.pz[i];
+    to.nx[k] = from.nx[i];
+    to.ny[k] = from.ny[i];
+    to.nz[k] = from.nz[i];
+    to.pixel[k] = from.pixel[i];
+    to.depth[k] = from.depth[i];
+    if (ids) {
+        to.triangle[k] = from.triangle[i];
+        to.b1[k] = from.b1[i];
+        to.b2[k] = from.b2[i];
+    }
+}
+
 // Calls winner(m, i) for the nearest fragment (part m, index i) of every covered pixel in [p0, p1), in pixel
 // order; `at` starts at each part's first fragment at or after p0 and ends past p1's.
 template <class Winner>
@@ -112,30 +129,13 @@ void merge_by_depth(std::vector<FragmentBuffer>& parts, Frame& frame) {
     out = FragmentBuffer{};
     out.width = parts[0].width;
     out.height = parts[0].height;
-    std::vector<std::vector<float>*> floats = {&out.px, &out.py, &out.pz, &out.nx, &out.ny, &out.nz, &out.depth};
-    if (ids) floats.insert(floats.end(), {&out.b1, &out.b2});
-    for (std::vector<float>* v : floats) size_for_frame(*v, total);
-    size_for_frame(out.pixel, total);
-    if (ids) size_for_frame(out.triangle, total);
+    size_fragments(out, total, ids, threads);
     size_for_frame(mesh_of, total);
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
         std::size_t k = first[std::size_t(t)];
         merge_range(parts, p0, p1, start[std::size_t(t)], [&](std::uint32_t m, std::uint32_t i) {
-            const FragmentBuffer& f = parts[m];
-            out.px[k] = f.px[i];
-            out.py[k] = f.py[i];
-            out.pz[k] = f.pz[i];
-            out.nx[k] = f.nx[i];
-            out.ny[k] = f.ny[i];
-            out.nz[k] = f.nz[i];
-            out.pixel[k] = f.pixel[i];
-            out.depth[k] = f.depth[i];
-            if (ids) {
-                out.triangle[k] = f.triangle[i];
-                out.b1[k] = f.b1[i];
-                out.b2[k] = f.b2[i];
-            }
+            copy_fragment(out, k, parts[m], i, ids);
             mesh_of[k++] = std::uint16_t(m);
         });
     });
@@ -153,23 +153,8 @@ FragmentBuffer fragments_of(const Frame& frame, std::size_t mi, std::vector<std:
     FragmentBuffer sub;
     sub.width = fb.width;
     sub.height = fb.height;
-    const auto gather = [&](auto& to, const auto& from) {
-        to.resize(n);
-        for (std::size_t k = 0; k < n; ++k) to[k] = from[idx[k]];
-    };
-    gather(sub.px, fb.px);
-    gather(sub.py, fb.py);
-    gather(sub.pz, fb.pz);
-    gather(sub.nx, fb.nx);
-    gather(sub.ny, fb.ny);
-    gather(sub.nz, fb.nz);
-    gather(sub.pixel, fb.pixel);
-    gather(sub.depth, fb.depth);
-    if (ids) {
-        gather(sub.triangle, fb.triangle);
-        gather(sub.b1, fb.b1);
-        gather(sub.b2, fb.b2);
-    }
+    size_fragments(sub, n, ids, 1);
+    for (std::size_t k = 0; k < n; ++k) copy_fragment(sub, k, fb, idx[k], ids);
     return sub;
 }
 

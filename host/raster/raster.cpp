@@ -2032,32 +2032,6 @@ std::vector<std::size_t> band_offsets(const RowSpan* spans, const Tiling& g) {
     return at;
 }
 
-// The eleven fragment arrays sized for n fragments (eight, and triangle, b1 and b2 emptied, without
-// `triangle_ids`). Growing an array value-initialises its new elements (and faults in fresh pages): a pass over
-// 44 bytes per fragment that, on one thread, kept the other idle, so the threads take every threads-th array
-// (each vector is one thread's alone).
-void size_fragments(FragmentBuffer& fb, std::size_t n, bool triangle_ids, int threads) {
-    std::vector<std::vector<float>*> f = {&fb.px, &fb.py, &fb.pz, &fb.nx, &fb.ny, &fb.nz, &fb.depth};
-    std::vector<std::vector<std::int32_t>*> i = {&fb.pixel};
-    if (triangle_ids) {
-        f.insert(f.end(), {&fb.b1, &fb.b2});
-        i.push_back(&fb.triangle);
-    } else {
-        fb.triangle.clear();
-        fb.b1.clear();
-        fb.b2.clear();
-    }
-    const std::size_t floats = f.size(), arrays = f.size() + i.size();
-    bool grows = false;
-    for (const std::vector<float>* v : f) grows = grows || v->size() < n;
-    for (const std::vector<std::int32_t>* v : i) grows = grows || v->size() < n;
-    const int workers = grows ? std::min(threads, int(arrays)) : 1;
-    run_parallel(workers, [&](int t) {
-        for (std::size_t k = std::size_t(t); k < arrays; k += std::size_t(workers))
-            k < floats ? size_for_frame(*f[k], n, 1) : size_for_frame(*i[k - floats], n, 1);
-    });
-}
-
 // 4. Emit fragments in pixel order: each band of band_rows rows writes its own slice of the buffer.
 void emit_all(const Mesh& mesh, const Camera& camera, const RasterOptions& o, const SetupResult& s, const Tiling& g,
               const Scratch& scratch, int threads, FragmentBuffer& fb) {
