@@ -141,37 +141,82 @@ void merge_by_depth(std::vector<FragmentBuffer>& parts, Frame& frame) {
     });
 }
 
-// The fragments of mesh `mi` (with their triangle ids and barycentrics, for per-vertex shading); idx gets their
-// places in the frame.
-FragmentBuffer fragments_of(const Frame& frame, std::size_t mi, std::vector<std::size_t>& idx) {
-    const FragmentBuffer& fb = frame.fb;
-    idx.clear();
-    for (std::size_t i = 0; i < fb.size(); ++i)
-        if (frame.mesh_of[i] == mi) idx.push_back(i);
-    const std::size_t n = idx.size();
-    const bool ids = !fb.triangle.empty();
-    FragmentBuffer sub;
-    sub.width = fb.width;
-    sub.height = fb.height;
-    size_fragments(sub, n, ids, 1);
-    for (std::size_t k = 0; k < n; ++k) copy_fragment(sub, k, fb, idx[k], ids);
-    return sub;
+// Where each mesh's fragments lie in the frame, so that a mesh's fragments are gathered and its shaded planes
+// scattered back on several threads, with no list of indices: the frame's fragments cut into `threads`
+// contiguous chunks (split()), first[t][m] = the index, among mesh m's own fragments, of its first one in chunk t,
+// and count[m] = all of mesh m's. (Replaced one thread's walk that pushed every index into a list, then copied and
+// scattered through it: 85-100 ms of a 3-mesh scene's shade stage at 4096x2048 around 4-5 ms of kernels.)
+struct MeshChunks {
+    int threads = 1;
+    std::vector<std::vector<std::size_t>> first;
+    std::vector<std::size_t> count;
+};
+
+MeshChunks chunk_by_mesh(const Frame& frame, std::size_t meshes) {
+    const std::vector<std::uint16_t>& mesh_of = frame.mesh_of;
+    const std::size_t n = mesh_of.size();
+    MeshChunks c;
+    c.threads = thread_count(0, n / kMergeBlock);
+    c.first.assign(std::size_t(c.threads), std::vector<std::size_t>(meshes, 0));
+    run_parallel(c.threads, [&](int t) {
+        std::vector<std::size_t>& here = c.first[std::size_t(t)];
+        for (std::size_t i = split(n, c.threads, t), end = split(n, c.threads, t + 1); i < end; ++i) {
+            if (mesh_of[i] >= meshes)
+                throw Error("internal: fragment " + std::to_string(i) + " names mesh " + std::to_string(mesh_of[i]) +
+                            " of " + std::to_string(meshes));
+            ++here[mesh_of[i]];
+        }
+    });
+    c.count.assign(meshes, 0);
+    for (std::vector<std::size_t>& here : c.first)
+        for (std::size_t m = 0; m < meshes; ++m) {
+            const std::size_t in_chunk = here[m];
+            here[m] = c.count[m];
+            c.count[m] += in_chunk;
+        }
+    return c;
 }
 
-std::vector<float> shade_mesh(Shader& shader, const Job& job, const JobMesh& m, const FragmentBuffer& fb,
-                              ShadeTiming& st, double& interpolate_ms) {
+// fn(i, k) for every fragment i of the frame that is mesh mi's, k its index among the mesh's own (in order), on
+// the chunks' threads (each chunk's i and k are its own).
+template <class Fn>
+void for_mesh_fragments(const Frame& frame, const MeshChunks& c, std::size_t mi, const Fn& fn) {
+    const std::size_t n = frame.mesh_of.size();
+    run_parallel(c.threads, [&](int t) {
+        std::size_t k = c.first[std::size_t(t)][mi];
+        for (std::size_t i = split(n, c.threads, t), end = split(n, c.threads, t + 1); i < end; ++i)
+            if (frame.mesh_of[i] == mi) fn(i, k++);
+    });
+}
+
+// The fragments of mesh `mi` into `sub` (its memory reused from the mesh before when large enough), with their
+// triangle ids and barycentrics (for per-vertex shading).
+void fragments_of(const Frame& frame, const MeshChunks& c, std::size_t mi, FragmentBuffer& sub) {
+    const FragmentBuffer& fb = frame.fb;
+    const bool ids = !fb.triangle.empty();
+    sub.width = fb.width;
+    sub.height = fb.height;
+    size_fragments(sub, c.count[mi], ids, c.threads);
+    for_mesh_fragments(frame, c, mi, [&](std::size_t i, std::size_t k) { copy_fragment(sub, k, fb, i, ids); });
+}
+
+// Mesh m's fragments shaded into `planes` (its memory reused when large enough: the meshes of one frame share it).
+void shade_mesh(Shader& shader, const Job& job, const JobMesh& m, const FragmentBuffer& fb, std::vector<float>& planes,
+                ShadeTiming& st, double& interpolate_ms) {
     ShadeSetup setup;
     setup.material = m.material;
     setup.lights = job.lights;
     setup.ambient = job.ambient;
     setup.view = shade_view(job);
     setup.precision = job.precision;
-    if (!job.per_vertex) return shader.shade(fb, setup, &st);
+    if (!job.per_vertex) {
+        shader.shade_into(fb, setup, planes, &st);
+        return;
+    }
     const auto vertex_planes = shade_vertices(shader, m.mesh, setup, &st);
     const auto t0 = clock_type::now();
-    std::vector<float> planes = interpolate_to_fragments(fb, m.mesh, vertex_planes);
+    planes = interpolate_to_fragments(fb, m.mesh, vertex_planes);
     interpolate_ms += ms_since(t0);
-    return planes;
 }
 
 Image depth_image(const Job& job, const FragmentBuffer& fb) {
@@ -244,21 +289,28 @@ Frame raster(const Job& job, StageTimes& times) {
 std::vector<float> shade(Shader& shader, const Job& job, const Frame& frame, StageTimes& times) {
     const auto t0 = clock_type::now();
     const std::size_t n = frame.fb.size();
-    // One mesh: its shaded planes are the frame's (moved, below). Several: each mesh's planes are scattered into
-    // the frame's, zero-filled first. (Zero-filling 3n floats for one mesh too took 40-50 ms of fresh pages at
-    // 4096x4096, for planes that were then replaced.)
+    // One mesh: its shaded planes are the frame's (moved, below). Several: each mesh's fragments are gathered,
+    // shaded, and its planes scattered into the frame's (every fragment is one mesh's, so every value is written).
+    // (Zero-filling 3n floats for one mesh too took 40-50 ms of fresh pages at 4096x4096, for planes that were
+    // then replaced.)
+    const bool whole = job.meshes.size() == 1;
     std::vector<float> rgb;
-    if (job.meshes.size() > 1) size_for_frame(rgb, 3 * n);
-    std::vector<std::size_t> idx;
+    MeshChunks chunks;
+    if (!whole && n > 0) {
+        size_for_frame(rgb, 3 * n);
+        chunks = chunk_by_mesh(frame, job.meshes.size());
+    }
+    FragmentBuffer sub;   // this mesh's fragments, and their shaded planes: both reused from mesh to mesh
+    std::vector<float> part;
     for (std::size_t mi = 0; mi < job.meshes.size() && n > 0; ++mi) {
         // This mesh's fragments, shaded with its material (one launch per material).
-        const bool whole = job.meshes.size() == 1;
-        const FragmentBuffer sub = whole ? FragmentBuffer{} : fragments_of(frame, mi, idx);
-        if (!whole && idx.empty()) continue;
+        if (!whole) {
+            if (chunks.count[mi] == 0) continue;
+            fragments_of(frame, chunks, mi, sub);
+        }
         ShadeTiming st;
-        std::vector<float> part;
         try {
-            part = shade_mesh(shader, job, job.meshes[mi], whole ? frame.fb : sub, st, times.interpolate_ms);
+            shade_mesh(shader, job, job.meshes[mi], whole ? frame.fb : sub, part, st, times.interpolate_ms);
         } catch (const Error& e) {
             throw Error("meshes[" + std::to_string(mi) + "] (model '" + job.meshes[mi].material.model + "'): " + e.what());
         }
@@ -268,9 +320,10 @@ std::vector<float> shade(Shader& shader, const Job& job, const Frame& frame, Sta
             rgb = std::move(part);
             break;
         }
-        const std::size_t m = idx.size();
-        for (std::size_t k = 0; k < m; ++k)
-            for (std::size_t c = 0; c < 3; ++c) rgb[c * n + idx[k]] = part[c * m + k];
+        const std::size_t m = chunks.count[mi];
+        for_mesh_fragments(frame, chunks, mi, [&](std::size_t i, std::size_t k) {
+            for (std::size_t c = 0; c < 3; ++c) rgb[c * n + i] = part[c * m + k];
+        });
     }
     times.shade_ms += ms_since(t0);
     return rgb;
