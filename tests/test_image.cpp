@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <string>
 #include <limits>
 
 #include "core/error.hpp"
@@ -228,6 +229,102 @@ TEST_CASE("compose_image_into reusing an image of another size and content equal
     CHECK(fresh.at(1, 0, 3) == 0.125f);
 }
 
+namespace {
+
+std::string file_bytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::size_t bytes_differing(const std::vector<unsigned char>& a, const std::vector<unsigned char>& b) {
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
+    return differ;
+}
+
+// The message write_image(path, img) refuses with, or "" when it writes the file.
+std::string write_refusal(const std::string& path, const Image& img) {
+    try {
+        write_image(path, img);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+// compose_image_srgb8_into codes each pixel as it composes (pipeline::resolve, when every colour output is 8-bit):
+// the bytes must be encode_srgb8's of compose_image's float image, whatever the values (negative, -0, denormal,
+// above 1, a colour equal to the background's), the background (zero, grey, -0 and above 1) and the order.
+TEST_CASE("compose_image_srgb8_into equals encode_srgb8 of compose_image byte for byte, and writes the same files",
+          "[image]") {
+    const int w = 1000, h = 700, npix = w * h;
+    FragmentBuffer fwd, rev;
+    fwd.width = rev.width = w;
+    fwd.height = rev.height = h;
+    std::vector<int> covered;
+    for (int p = 1; p < npix; p += 3) covered.push_back(p);
+    for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
+    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
+    const std::size_t n = covered.size();
+    const float specials[] = {0.0f, -0.0f, -0.5f, 1e-40f, 0.0031308f, 0.5f, 1.0f, 1.5f, 0.25f, 0.75f};
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    std::vector<float> rgb_fwd(3 * n), rgb_rev(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) {
+            const float v = i % 7 == 0 ? specials[(i / 7 + c) % 10] : u(rng);
+            rgb_fwd[c * n + i] = v;
+            rgb_rev[c * n + (n - 1 - i)] = v;
+        }
+    const fs::path dir = test::scratch_dir("image_coded");
+    Srgb8Image reused;
+    reused.bytes.assign(1200u * 800u * 4u, 77);
+    for (const glm::dvec4& bg : {glm::dvec4(0.0), glm::dvec4(0.25, 0.5, 0.75, 0.125), glm::dvec4(-0.0, 2.0, 0.5, 1.0)}) {
+        const std::vector<unsigned char> want = encode_srgb8(compose_image(fwd, rgb_fwd, bg));
+        compose_image_srgb8_into(fwd, rgb_fwd, bg, "x.png", reused);
+        CAPTURE(bg[0], bg[1], bg[2], bg[3]);
+        REQUIRE(reused.width == w);
+        REQUIRE(reused.height == h);
+        REQUIRE(reused.channels == 4);
+        REQUIRE(reused.bytes.size() == want.size());
+        CHECK(bytes_differing(reused.bytes, want) == 0);
+        Srgb8Image any_order;
+        compose_image_srgb8_into(rev, rgb_rev, bg, "x.png", any_order);
+        REQUIRE(any_order.bytes.size() == want.size());
+        CHECK(bytes_differing(any_order.bytes, want) == 0);
+    }
+    // The files: the same bytes as write_image of the float image, through libpng (.png) and OpenImageIO (.jpg).
+    const glm::dvec4 bg(0.25, 0.5, 0.75, 0.125);
+    const Image linear = compose_image(fwd, rgb_fwd, bg);
+    compose_image_srgb8_into(fwd, rgb_fwd, bg, "x.png", reused);
+    for (const char* ext : {".png", ".jpg"}) {
+        write_image((dir / (std::string("coded") + ext)).string(), reused);
+        write_image((dir / (std::string("linear") + ext)).string(), linear);
+        const std::string a = file_bytes(dir / (std::string("coded") + ext));
+        CAPTURE(ext);
+        CHECK(a.size() > 1000);
+        CHECK((a == file_bytes(dir / (std::string("linear") + ext))));   // (not printed: a whole file)
+    }
+    CHECK_THROWS_WITH(write_image((dir / "coded.exr").string(), reused), Catch::Contains("a format of linear floats"));
+    // NaN and Inf: refused with write_image's message and count (a NaN background counts in every pixel it fills).
+    std::vector<float> bad = rgb_fwd;
+    bad[5] = std::nanf("");
+    bad[2 * n + 9] = INFINITY;
+    const std::string path = (dir / "bad.png").string();
+    const std::string want_bad = write_refusal(path, compose_image(fwd, bad, bg));
+    CHECK_THAT(want_bad, Catch::Contains("2 pixel values are NaN or Inf"));
+    CHECK_THROWS_WITH(compose_image_srgb8_into(fwd, bad, bg, path, reused), want_bad);
+    const glm::dvec4 nan_bg(0.1, std::nan(""), 0.1, 1.0);
+    const std::string want_bg = write_refusal(path, compose_image(fwd, rgb_fwd, nan_bg));
+    CHECK_THAT(want_bg, Catch::Contains(std::to_string(npix - int(n)) + " pixel values are NaN or Inf"));
+    CHECK_THROWS_WITH(compose_image_srgb8_into(fwd, rgb_fwd, nan_bg, path, reused), want_bg);
+    CHECK_THROWS_WITH(compose_image_srgb8_into(rev, rgb_rev, nan_bg, path, reused), want_bg);
+    CHECK_FALSE(fs::exists(path));
+    fs::remove_all(dir);
+}
+
 TEST_CASE("8-bit writes count NaN and Inf while coding: refused in the last row block too, nothing left behind", "[image]") {
     // 8-bit formats find NaN/Inf while coding row blocks (about 1 MB each) as they are written: a bad value in
     // the first block, in the last one and on a 1-channel image must all be refused with the full count,
@@ -286,11 +383,6 @@ TEST_CASE("the 8-bit sRGB table gives lround(255 srgb_encode(v)) for every 97th 
 }
 
 namespace {
-
-std::string file_bytes(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 // The file OpenImageIO 2.4 writes for the same pixels and settings, through the image plug-in's writer: 8-bit
 // sRGB codes (PNG) or floats (EXR).

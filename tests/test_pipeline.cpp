@@ -164,8 +164,8 @@ TEST_CASE("pipeline: per vertex differs from per pixel on a coarse sphere, and t
     pix.outputs.normal = (scratch / "n.exr").string();
     const auto images = pipeline::resolve(pix, f, a, t);
     REQUIRE(images.size() == 3);
-    const Image& depth = images[1].second;
-    const Image& normal = images[2].second;
+    const Image& depth = images[1].linear;
+    const Image& normal = images[2].linear;
     REQUIRE(depth.channels == 1);
     REQUIRE(normal.channels == 4);
     std::size_t covered = 0;

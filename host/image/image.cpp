@@ -59,16 +59,22 @@ bool strictly_increasing(const std::int32_t* pixel, std::size_t b, std::size_t e
 
 namespace {
 
+// The background bg in pixels [from, to), through put(p, red, green, blue, alpha). (A Put with a faster way
+// overloads it: PutCoded.)
+template <class Put>
+void put_background(const Put& put, std::size_t from, std::size_t to, const float bg[4]) {
+    const float bg_r = bg[0], bg_g = bg[1], bg_b = bg[2], bg_a = bg[3];
+    for (std::size_t p = from; p < to; ++p) put(p, bg_r, bg_g, bg_b, bg_a);
+}
+
 // Pixels [p0, p1) of an RGBA image: the fragments [f0, f1), whose pixel indices are strictly increasing and
 // inside the range, with their colour and alpha 1, every other pixel the background. Each pixel is written
-// once, in address order (no background pass under the fragments), by put(p, red, green, blue, alpha).
+// once, in address order (no background pass under the fragments), by put(p, red, green, blue, alpha) and
+// put_background.
 template <class Put>
 void compose_range(const std::int32_t* pixel, const float* r, const float* g, const float* b, const float bg[4],
                    std::size_t p0, std::size_t p1, std::size_t f0, std::size_t f1, const Put& put) {
-    const float bg_r = bg[0], bg_g = bg[1], bg_b = bg[2], bg_a = bg[3];
-    auto background = [&](std::size_t from, std::size_t to) {
-        for (std::size_t p = from; p < to; ++p) put(p, bg_r, bg_g, bg_b, bg_a);
-    };
+    auto background = [&](std::size_t from, std::size_t to) { put_background(put, from, to, bg); };
     std::size_t p = p0;
     for (std::size_t i = f0; i < f1; ++i) {
         const std::size_t q = std::size_t(pixel[i]);
@@ -230,10 +236,25 @@ std::uint8_t srgb8_code(float linear) { return srgb8_table().code(linear); }
 
 namespace {
 
-// Values [b, e) of `img` (whole pixels) coded into out[0, e - b): colour channels through the table, alpha
-// (the 4th of 4) clamped and rounded, floor(255 v + 0.5), which is lround's value here (255 v is exact in
-// double and non-negative). A pixel of four zeros (the background of most renders) is coded at once.
-// Returns how many of the values are NaN or Inf (coded 0 or 255; write_image refuses such images).
+// One RGBA pixel v coded into o: colour channels through the table, alpha clamped and rounded,
+// floor(255 v + 0.5), which is lround's value here (255 v is exact in double and non-negative). A pixel of four
+// zeros (the background of most renders) is coded at once. Returns how many of the four are NaN or Inf (coded 0
+// or 255; write_image refuses such images).
+inline std::size_t code_pixel(const Srgb8Table& table, const float* v, unsigned char* o) {
+    if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f) {
+        o[0] = o[1] = o[2] = o[3] = 0;
+        return 0;
+    }
+    std::size_t bad = 0;
+    for (int c = 0; c < 4; ++c) bad += std::isfinite(v[c]) ? 0 : 1;
+    for (int c = 0; c < 3; ++c) o[c] = table.code(v[c]);
+    const double a = v[3] > 0.0f ? std::min(double(v[3]), 1.0) : 0.0;   // NaN: 0
+    o[3] = static_cast<unsigned char>(int(a * 255.0 + 0.5));
+    return bad;
+}
+
+// Values [b, e) of `img` (whole pixels) coded into out[0, e - b): code_pixel's codes (every value through the
+// table when the image is not RGBA). Returns how many of the values are NaN or Inf.
 std::size_t encode_srgb8_values(const Srgb8Table& table, const Image& img, std::size_t b, std::size_t e,
                                 unsigned char* out) {
     const std::size_t channels = std::size_t(img.channels);
@@ -246,18 +267,7 @@ std::size_t encode_srgb8_values(const Srgb8Table& table, const Image& img, std::
         }
         return bad;
     }
-    for (std::size_t i = b; i < e; i += 4) {
-        const float* v = in + i;
-        unsigned char* o = out + (i - b);
-        if (v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f && v[3] == 0.0f) {
-            o[0] = o[1] = o[2] = o[3] = 0;
-            continue;
-        }
-        for (int c = 0; c < 4; ++c) bad += std::isfinite(v[c]) ? 0 : 1;
-        for (int c = 0; c < 3; ++c) o[c] = table.code(v[c]);
-        const double a = v[3] > 0.0f ? std::min(double(v[3]), 1.0) : 0.0;   // NaN: 0
-        o[3] = static_cast<unsigned char>(int(a * 255.0 + 0.5));
-    }
+    for (std::size_t i = b; i < e; i += 4) bad += code_pixel(table, in + i, out + (i - b));
     return bad;
 }
 
@@ -293,6 +303,79 @@ std::vector<unsigned char> encode_srgb8(const Image& img) {
         encode_srgb8_values(table, img, b, e, px.data() + b);
     });
     return px;
+}
+
+namespace {
+
+// compose_range's way to write a pixel coded for an 8-bit output (code_pixel), counting NaN and Inf in `bad`;
+// the background's code is worked out once, unless it holds a NaN or an Inf (then every pixel of it is coded
+// and counted, as encode_srgb8 would).
+struct PutCoded {
+    const Srgb8Table& table;
+    unsigned char* out;
+    bool bg_finite;
+    std::uint32_t bg_code;
+    std::size_t& bad;
+    void operator()(std::size_t p, float r, float g, float b, float a) const {
+        const float v[4] = {r, g, b, a};
+        bad += code_pixel(table, v, out + p * 4);
+    }
+};
+
+void put_background(const PutCoded& put, std::size_t from, std::size_t to, const float bg[4]) {
+    if (!put.bg_finite) {
+        for (std::size_t p = from; p < to; ++p) put(p, bg[0], bg[1], bg[2], bg[3]);
+        return;
+    }
+    for (std::size_t p = from; p < to; ++p) std::memcpy(put.out + p * 4, &put.bg_code, 4);
+}
+
+}  // namespace
+
+void compose_image_srgb8_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
+                              const std::string& path, Srgb8Image& img) {
+    if (fb.width <= 0 || fb.height <= 0)
+        throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
+    const std::size_t n = fb.size();
+    if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
+    const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
+    const std::int32_t* const pixel = fb.pixel.data();
+    const int threads = thread_count(0, npix / 65536);
+    std::vector<char> sorted(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
+        sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
+    });
+    img.width = fb.width;
+    img.height = fb.height;
+    img.channels = 4;
+    if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; })) {
+        // Any order: through the float image, on one thread (compose_unordered), then coded.
+        const Image linear = compose_image(fb, rgb, background);
+        refuse_non_finite(path, count_non_finite(linear));
+        img.bytes = encode_srgb8(linear);
+        return;
+    }
+    size_for_frame(img.bytes, npix * 4);
+    const Srgb8Table& table = srgb8_table();
+    const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
+    unsigned char bg_code[4];
+    const bool bg_finite = code_pixel(table, bg, bg_code) == 0;
+    std::uint32_t bg_word;
+    std::memcpy(&bg_word, bg_code, 4);
+    std::vector<std::size_t> bad_of(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
+        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
+        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
+        const float *r = rgb.data(), *g = r + n, *b = g + n;
+        std::size_t bad = 0;
+        compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, PutCoded{table, img.bytes.data(), bg_finite, bg_word, bad});
+        bad_of[std::size_t(t)] = bad;
+    });
+    std::size_t bad = 0;
+    for (std::size_t k : bad_of) bad += k;
+    refuse_non_finite(path, bad);
 }
 
 Encoding encoding_for(const std::string& path) {
@@ -357,19 +440,32 @@ bool write_srgb8_pipelined(const Rows8Sink& sink, const Image& img, const std::s
     return ok;
 }
 
-// Encodes `img` into `file` with OpenImageIO, in the image plug-in (8-bit sRGB or linear float, as `enc` says).
-// Returns false with OpenImageIO's reason in `why` when writing failed; throws when no plug-in writes `path`'s
-// format.
-bool write_with_oiio(const std::string& file, const std::string& path, const Image& img, Encoding enc,
-                     const ImageWriteOptions& options, std::string& why) {
+// Rows of an image already coded (compose_image_srgb8), handed over in blocks of about 1 MB.
+bool write_srgb8_rows(const Rows8Sink& sink, const Srgb8Image& img) {
+    const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
+    const int block = std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row)));
+    for (int y0 = 0; y0 < img.height; y0 += block)
+        if (!sink.write(y0, std::min(img.height, y0 + block), img.bytes.data() + std::size_t(y0) * row)) return false;
+    return true;
+}
+
+// How an image's 8-bit rows reach a Rows8Sink: write_srgb8_pipelined for a float image, write_srgb8_rows for a
+// coded one.
+using Rows8Source = std::function<bool(const Rows8Sink&)>;
+
+// Encodes an image of `spec`'s size into `file` with OpenImageIO, in the image plug-in: 8-bit sRGB rows from
+// `rows8` when spec.srgb8, else the linear floats `floats`. Returns false with OpenImageIO's reason in `why` when
+// writing failed; throws when no plug-in writes `path`'s format.
+bool write_with_oiio(const std::string& file, const std::string& path, const image_io::WriteSpec& spec,
+                     const Rows8Source& rows8, const float* floats, std::string& why) {
     const image_io::Plugin& io = image_io::plugin();
     bool no_format = false;
-    image_io::Writer* out = io.writer_open(file, image_io::write_spec(img, enc == Encoding::Srgb8, options), why, no_format);
+    image_io::Writer* out = io.writer_open(file, spec, why, no_format);
     if (no_format) throw Error("cannot write '" + path + "': " + why);
     if (!out) return false;   // the file could not be created: write_file_atomically says why and what to do
     bool ok = true;
     try {
-        if (enc == Encoding::Srgb8) {
+        if (spec.srgb8) {
             int written = 0;   // rows [0, written) are in the file
             const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) {
                                      written = y1;
@@ -377,14 +473,14 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
                                  },
                                  [&] {
                                      // the rows left as zeros, and the file closed (see Rows8Sink)
-                                     const std::vector<unsigned char> zeros(std::size_t(img.width) * std::size_t(img.channels), 0);
-                                     for (int y = written; y < img.height; ++y) io.writer_rows8(out, y, y + 1, zeros.data());
+                                     const std::vector<unsigned char> zeros(std::size_t(spec.width) * std::size_t(spec.channels), 0);
+                                     for (int y = written; y < spec.height; ++y) io.writer_rows8(out, y, y + 1, zeros.data());
                                      std::string ignored;
                                      io.writer_close(std::exchange(out, nullptr), ignored);
                                  }};
-            ok = write_srgb8_pipelined(sink, img, path);
+            ok = rows8(sink);
         } else {
-            ok = io.writer_float(out, img.pixels.data());
+            ok = io.writer_float(out, floats);
         }
     } catch (...) {
         std::string ignored;
@@ -397,13 +493,13 @@ bool write_with_oiio(const std::string& file, const std::string& path, const Ima
     return ok && closed;
 }
 
-// The PNG through libpng itself (image/png_writer.hpp), with write_srgb8_pipelined's coding.
-bool write_png_direct(const std::string& file, const std::string& path, const Image& img, const ImageWriteOptions& options,
-                      std::string& why) {
-    PngWriter png(file, img.width, img.height, img.channels, options.png_level, options.png_filter);
+// A PNG of width x height x channels through libpng itself (image/png_writer.hpp), its rows from `rows8`.
+bool write_png_direct(const std::string& file, int width, int height, int channels, const Rows8Source& rows8,
+                      const ImageWriteOptions& options, std::string& why) {
+    PngWriter png(file, width, height, channels, options.png_level, options.png_filter);
     const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) { return png.rows(y0, y1, rows); },
                          [&] { png.abandon(); }};
-    const bool ok = png.ok() && write_srgb8_pipelined(sink, img, path) && png.finish();
+    const bool ok = png.ok() && rows8(sink) && png.finish();
     if (!ok) why = png.error();
     return ok;
 }
@@ -431,9 +527,29 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
     write_file_atomically(
         path, "image",
         [&](const std::string& tmp, std::string& why) {
-            if (direct_png) return write_png_direct(tmp, path, img, options, why);
+            const Rows8Source rows8 = [&](const Rows8Sink& sink) { return write_srgb8_pipelined(sink, img, path); };
+            if (direct_png) return write_png_direct(tmp, img.width, img.height, img.channels, rows8, options, why);
             if (direct_exr) return write_exr(tmp, img, options.exr_compression, why);
-            return write_with_oiio(tmp, path, img, enc, options, why);
+            return write_with_oiio(tmp, path, image_io::write_spec(img, enc == Encoding::Srgb8, options), rows8,
+                                   img.pixels.data(), why);
+        },
+        fs::path(path).extension().string());
+}
+
+void write_image(const std::string& path, const Srgb8Image& img, const ImageWriteOptions& options) {
+    if (encoding_for(path) != Encoding::Srgb8)
+        throw Error("internal: an 8-bit image given for '" + path + "', a format of linear floats");
+    if (img.width < 1 || img.height < 1 || img.channels < 1 || img.channels > 4 ||
+        img.bytes.size() != std::size_t(img.width) * std::size_t(img.height) * std::size_t(img.channels))
+        throw Error("internal: the 8-bit image for '" + path + "' does not hold width x height x channels bytes");
+    const std::string ext = lower_ext(path);
+    const Rows8Source rows8 = [&](const Rows8Sink& sink) { return write_srgb8_rows(sink, img); };
+    const image_io::WriteSpec spec = image_io::write_spec(img.width, img.height, img.channels, true, options);
+    write_file_atomically(
+        path, "image",
+        [&](const std::string& tmp, std::string& why) {
+            if (ext == ".png") return write_png_direct(tmp, img.width, img.height, img.channels, rows8, options, why);
+            return write_with_oiio(tmp, path, spec, rows8, nullptr, why);
         },
         fs::path(path).extension().string());
 }

@@ -37,6 +37,21 @@ Image compose_image(const FragmentBuffer& fb, const std::vector<float>& rgb_plan
 void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb_planes, const glm::dvec4& background,
                         Image& out);
 
+// An image coded for an 8-bit output (.png .jpg ...): srgb8_code's bytes, row-major, channels interleaved.
+struct Srgb8Image {
+    int width = 0;
+    int height = 0;
+    int channels = 4;
+    std::vector<unsigned char> bytes;
+};
+
+// compose_image's image coded as encode_srgb8 codes it, the same bytes, made without the float image: in
+// parallel when the fragments are in pixel order, coding each pixel as it is composed (a quarter of the float
+// image's memory, and no pass over it). Refuses, as write_image(path, ...) would, an image holding NaN or Inf
+// (`path` names the output in the message). `out`'s memory is reused when it is large enough.
+void compose_image_srgb8_into(const FragmentBuffer& fb, const std::vector<float>& rgb_planes,
+                              const glm::dvec4& background, const std::string& path, Srgb8Image& out);
+
 // The 8-bit sRGB code of a linear value, lround(255 srgb_encode(v)) (0 for NaN and v <= 0, 255 for v >= 1),
 // from a table of the curve's exact thresholds. encode_srgb8 codes every value of an image so (alpha, the
 // 4th of 4 channels, is clamped to [0, 1] and scaled, not encoded), on all hardware threads.
@@ -63,6 +78,9 @@ struct ImageWriteOptions {
 // FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never
 // leaves a truncated image. Refuses (shadelab::Error) images holding NaN or Inf: they are bugs upstream.
 void write_image(const std::string& path, const Image& img, const ImageWriteOptions& options = {});
+// An image already coded (compose_image_srgb8_into) to an 8-bit format (encoding_for(path) is Srgb8): the same
+// file as write_image of the float image it was coded from.
+void write_image(const std::string& path, const Srgb8Image& img, const ImageWriteOptions& options = {});
 // The formats write_image takes, for --help texts and errors: one list, so no command's help can drift from it.
 constexpr const char* kOutputFormats = ".png .jpg .bmp .tga .webp (sRGB 8-bit) or .exr .hdr .tif .fits (linear float)";
 

@@ -49,17 +49,20 @@ struct WriteSpec {
     std::string exr_compression;
 };
 
-// The WriteSpec of `img` under `options`.
-inline WriteSpec write_spec(const Image& img, bool srgb8, const ImageWriteOptions& options) {
+// The WriteSpec of an image of width x height x channels, or of `img`, under `options`.
+inline WriteSpec write_spec(int width, int height, int channels, bool srgb8, const ImageWriteOptions& options) {
     WriteSpec spec;
-    spec.width = img.width;
-    spec.height = img.height;
-    spec.channels = img.channels;
+    spec.width = width;
+    spec.height = height;
+    spec.channels = channels;
     spec.srgb8 = srgb8;
     spec.png_level = options.png_level;
     spec.png_filter = options.png_filter;
     spec.exr_compression = options.exr_compression;
     return spec;
+}
+inline WriteSpec write_spec(const Image& img, bool srgb8, const ImageWriteOptions& options) {
+    return write_spec(img.width, img.height, img.channels, srgb8, options);
 }
 
 struct Reader;   // an open image file

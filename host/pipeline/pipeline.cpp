@@ -336,25 +336,39 @@ Image compose(const Job& job, const Frame& frame, const std::vector<float>& rgb,
     return img;
 }
 
-std::vector<std::pair<std::string, Image>> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb,
-                                                   StageTimes& times) {
+std::vector<OutputImage> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times) {
     const auto t0 = clock_type::now();
-    std::vector<std::pair<std::string, Image>> images;
+    std::vector<OutputImage> images;
     const auto& o = job.outputs;
-    if (!o.colour.empty()) {
+    const bool coded = !o.colour.empty() && std::all_of(o.colour.begin(), o.colour.end(), [](const std::string& p) {
+        return encoding_for(p) == Encoding::Srgb8;
+    });
+    if (coded) {
+        // 8-bit outputs only: composed and coded at once (a 4096 x 4096 float image is 256 MB of fresh pages, its
+        // coding another pass; the coded image is 64 MB).
+        Srgb8Image img;
+        compose_image_srgb8_into(frame.fb, rgb, job.background, o.colour.front(), img);
+        for (std::size_t i = 0; i + 1 < o.colour.size(); ++i) images.push_back(OutputImage{o.colour[i], {}, img});
+        images.push_back(OutputImage{o.colour.back(), {}, std::move(img)});
+    } else if (!o.colour.empty()) {
         Image img = compose_image(frame.fb, rgb, job.background);
-        for (std::size_t i = 0; i + 1 < o.colour.size(); ++i) images.emplace_back(o.colour[i], img);
-        images.emplace_back(o.colour.back(), std::move(img));
+        for (std::size_t i = 0; i + 1 < o.colour.size(); ++i) images.push_back(OutputImage{o.colour[i], img, {}});
+        images.push_back(OutputImage{o.colour.back(), std::move(img), {}});
     }
-    if (!o.depth.empty()) images.emplace_back(o.depth, depth_image(job, frame.fb));
-    if (!o.normal.empty()) images.emplace_back(o.normal, normal_image(job, frame.fb));
+    if (!o.depth.empty()) images.push_back(OutputImage{o.depth, depth_image(job, frame.fb), {}});
+    if (!o.normal.empty()) images.push_back(OutputImage{o.normal, normal_image(job, frame.fb), {}});
     times.resolve_ms += ms_since(t0);
     return images;
 }
 
-void write(const std::vector<std::pair<std::string, Image>>& images, StageTimes& times) {
+void write(const std::vector<OutputImage>& images, StageTimes& times) {
     const auto t0 = clock_type::now();
-    for (const auto& [path, img] : images) write_image(path, img);
+    for (const OutputImage& img : images) {
+        if (!img.srgb8.bytes.empty())
+            write_image(img.path, img.srgb8);
+        else
+            write_image(img.path, img.linear);
+    }
     times.write_ms += ms_since(t0);
 }
 

@@ -93,10 +93,16 @@ Frame raster(const Job& job, StageTimes& times);
 std::vector<float> shade(Shader& shader, const Job& job, const Frame& frame, StageTimes& times);
 // The colour image: the planes composed over the job's background (coverage alpha).
 Image compose(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times);
+// One image to write: linear floats, or, when every colour output is an 8-bit format, the colour image coded
+// (srgb8 non-empty), which costs a quarter of the float image's memory.
+struct OutputImage {
+    std::string path;
+    Image linear;
+    Srgb8Image srgb8;
+};
 // The images the job's outputs ask for, in output order (colour outputs, then depth, then normal).
-std::vector<std::pair<std::string, Image>> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb,
-                                                   StageTimes& times);
-void write(const std::vector<std::pair<std::string, Image>>& images, StageTimes& times);
+std::vector<OutputImage> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times);
+void write(const std::vector<OutputImage>& images, StageTimes& times);
 
 // The four stages in a row; returns the number of fragments.
 struct JobRun {

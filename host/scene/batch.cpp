@@ -95,7 +95,7 @@ struct Prepared {
     pipeline::Job job;                     // the scene as the render path takes it (planned when --tolerance)
     pipeline::Frame frame;
     bool settled = false;                  // skipped or failed: nothing to shade
-    std::vector<std::pair<std::string, Image>> images;   // shaded, waiting to be written
+    std::vector<pipeline::OutputImage> images;   // shaded, waiting to be written
 };
 
 // Outputs are up to date when each exists and is newer than the scene file and every mesh it reads.
