@@ -429,7 +429,7 @@ def section(text, title):
 
 def process_writes(t):
     lines = section(t, "image writes")
-    rows = [re.match(r"^(png zlib \d+(?:, filter \d+)?|exr \w+)( \(default\))?\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)x\s+([\d.]+)MB", l)
+    rows = [re.match(r"^(png zlib \d+(?:, filter \d+)?(?:, memLevel \d+)?|exr \w+)( \(default\))?\s+([\d.]+)ms\s+([\d.]+)ms\s+([\d.]+)x\s+([\d.]+)MB", l)
             for l in lines]
     rows = [r for r in rows if r]
     if not rows:

@@ -496,7 +496,7 @@ bool write_with_oiio(const std::string& file, const std::string& path, const ima
 // A PNG of width x height x channels through libpng itself (image/png_writer.hpp), its rows from `rows8`.
 bool write_png_direct(const std::string& file, int width, int height, int channels, const Rows8Source& rows8,
                       const ImageWriteOptions& options, std::string& why) {
-    PngWriter png(file, width, height, channels, options.png_level, options.png_filter);
+    PngWriter png(file, width, height, channels, options.png_level, options.png_filter, options.png_mem_level);
     const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) { return png.rows(y0, y1, rows); },
                          [&] { png.abandon(); }};
     const bool ok = png.ok() && rows8(sink) && png.finish();

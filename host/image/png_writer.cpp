@@ -47,7 +47,8 @@ int colour_type(int channels) {
 
 }  // namespace
 
-PngWriter::PngWriter(const std::string& file, int width, int height, int channels, int zlib_level, int filter)
+PngWriter::PngWriter(const std::string& file, int width, int height, int channels, int zlib_level, int filter,
+                     int zlib_mem_level)
     : width_(width), channels_(channels) {
     file_ = std::fopen(file.c_str(), "wb");
     if (!file_) {
@@ -68,6 +69,7 @@ PngWriter::PngWriter(const std::string& file, int width, int height, int channel
         png_init_io(png, file_);
         png_set_compression_level(png, zlib_level < 0 ? 0 : (zlib_level > 9 ? 9 : zlib_level));
         png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);   // as OpenImageIO sets it (libpng's own: Z_FILTERED)
+        png_set_compression_mem_level(png, zlib_mem_level < 1 ? 1 : (zlib_mem_level > 9 ? 9 : zlib_mem_level));
         if (filter != 0) png_set_filter(png, PNG_FILTER_TYPE_BASE, filter);
         png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, colour_type(channels), PNG_INTERLACE_NONE,
                      PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);

@@ -3,7 +3,8 @@
 // the one OpenImageIO 2.4 wrote for shadelab before (tests/test_image.cpp compares the two byte for byte): 8 bits
 // a channel (grey, grey + alpha, RGB or RGBA by channel count), straight alpha, the sRGB, gAMA and cHRM chunks of
 // an sRGB image, oFFs 0 0, and the text chunks "oiio:ColorSpace" = "sRGB" and "Software" = "shadelab"; zlib level
-// and row filter as ImageWriteOptions gives them, zlib's default strategy.
+// and row filter as ImageWriteOptions gives them, zlib's default strategy; zlib's memLevel as given (OpenImageIO
+// leaves libpng's, 8: the same file only then).
 #pragma once
 #include <cstdio>
 #include <string>
@@ -13,7 +14,8 @@ namespace shadelab {
 class PngWriter {
 public:
     // Opens `file` and writes the header; ok() says whether that worked (error() why).
-    PngWriter(const std::string& file, int width, int height, int channels, int zlib_level, int filter);
+    PngWriter(const std::string& file, int width, int height, int channels, int zlib_level, int filter,
+              int zlib_mem_level = 8);
     ~PngWriter();
     PngWriter(const PngWriter&) = delete;
     PngWriter& operator=(const PngWriter&) = delete;
