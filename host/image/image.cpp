@@ -55,6 +55,24 @@ bool strictly_increasing(const std::int32_t* pixel, std::size_t b, std::size_t e
     return true;
 }
 
+// What composing an image needs of the fragments: an image size, and three planes of their count.
+void check_composable(const FragmentBuffer& fb, const std::vector<float>& rgb) {
+    if (fb.width <= 0 || fb.height <= 0)
+        throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
+    if (rgb.size() != 3 * fb.size()) throw Error("internal: shaded colour count does not match the fragment count");
+}
+
+// Whether all the fragments are in pixel order (strictly_increasing over the image), checked on `threads` threads.
+bool in_pixel_order(const FragmentBuffer& fb, int threads) {
+    const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
+    std::vector<char> sorted(std::size_t(threads), 0);
+    run_parallel(threads, [&](int t) {
+        const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
+        sorted[std::size_t(t)] = strictly_increasing(fb.pixel.data(), b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
+    });
+    return std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; });
+}
+
 }  // namespace
 
 namespace {
@@ -137,10 +155,8 @@ void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, 
 
 void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
                         Image& img) {
-    if (fb.width <= 0 || fb.height <= 0)
-        throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
+    check_composable(fb, rgb);
     const std::size_t n = fb.size();
-    if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
     img.width = fb.width;
     img.height = fb.height;
@@ -152,13 +168,7 @@ void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb,
     // Rows in parallel when the fragments come in pixel order (as the rasteriser emits them): each thread
     // writes its own pixel range, with the fragments that land in it, found by binary search.
     const int threads = thread_count(0, npix / 65536);
-    std::vector<char> sorted(std::size_t(threads), 0);
-    run_parallel(threads, [&](int t) {
-        const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
-        sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
-    });
-    if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; }))
-        return compose_unordered(fb, rgb, bg, out);
+    if (!in_pixel_order(fb, threads)) return compose_unordered(fb, rgb, bg, out);
 #if defined(__SSE2__)
     const bool stream = npix * 4 * sizeof(float) >= kStreamImageBytes && std::uintptr_t(out) % 16 == 0;
 #endif
@@ -334,22 +344,15 @@ void put_background(const PutCoded& put, std::size_t from, std::size_t to, const
 
 void compose_image_srgb8_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
                               const std::string& path, Srgb8Image& img) {
-    if (fb.width <= 0 || fb.height <= 0)
-        throw Error("cannot make an image from surface samples (the fragment buffer has no image size)");
+    check_composable(fb, rgb);
     const std::size_t n = fb.size();
-    if (rgb.size() != 3 * n) throw Error("internal: shaded colour count does not match the fragment count");
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
     const std::int32_t* const pixel = fb.pixel.data();
     const int threads = thread_count(0, npix / 65536);
-    std::vector<char> sorted(std::size_t(threads), 0);
-    run_parallel(threads, [&](int t) {
-        const std::size_t b = split(n, threads, t), e = split(n, threads, t + 1);
-        sorted[std::size_t(t)] = strictly_increasing(pixel, b == 0 ? 0 : b - 1, e, npix) ? 1 : 0;
-    });
     img.width = fb.width;
     img.height = fb.height;
     img.channels = 4;
-    if (!std::all_of(sorted.begin(), sorted.end(), [](char c) { return c != 0; })) {
+    if (!in_pixel_order(fb, threads)) {
         // Any order: through the float image, on one thread (compose_unordered), then coded.
         const Image linear = compose_image(fb, rgb, background);
         refuse_non_finite(path, count_non_finite(linear));
