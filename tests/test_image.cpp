@@ -137,11 +137,15 @@ ComposedTwice compose_in_both_orders(int w, int h, int first, int step, int mod)
     return r;
 }
 
-std::size_t values_differing(const Image& a, const Image& b) {
+// How many elements of a differ from b's (b as long as a).
+template <class T>
+std::size_t differing(const std::vector<T>& a, const std::vector<T>& b) {
     std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
+    for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
     return differ;
 }
+
+std::size_t values_differing(const Image& a, const Image& b) { return differing(a.pixels, b.pixels); }
 
 }  // namespace
 
@@ -221,9 +225,7 @@ TEST_CASE("compose_image_into reusing an image of another size and content equal
         REQUIRE(reused.height == 700);
         REQUIRE(reused.channels == 4);
         REQUIRE(reused.pixels.size() == fresh.pixels.size());
-        std::size_t differ = 0;
-        for (std::size_t i = 0; i < fresh.pixels.size(); ++i) differ += reused.pixels[i] != fresh.pixels[i];
-        CHECK(differ == 0);
+        CHECK(values_differing(reused, fresh) == 0);
     }
     CHECK(fresh.at(999, 699, 3) == 1.0f);   // the last pixel is covered
     CHECK(fresh.at(1, 0, 3) == 0.125f);
@@ -234,12 +236,6 @@ namespace {
 std::string file_bytes(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-std::size_t bytes_differing(const std::vector<unsigned char>& a, const std::vector<unsigned char>& b) {
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
-    return differ;
 }
 
 // The message write_image(path, img) refuses with, or "" when it writes the file.
@@ -289,11 +285,11 @@ TEST_CASE("compose_image_srgb8_into equals encode_srgb8 of compose_image byte fo
         REQUIRE(reused.height == h);
         REQUIRE(reused.channels == 4);
         REQUIRE(reused.bytes.size() == want.size());
-        CHECK(bytes_differing(reused.bytes, want) == 0);
+        CHECK(differing(reused.bytes, want) == 0);
         Srgb8Image any_order;
         compose_image_srgb8_into(rev, rgb_rev, bg, "x.png", any_order);
         REQUIRE(any_order.bytes.size() == want.size());
-        CHECK(bytes_differing(any_order.bytes, want) == 0);
+        CHECK(differing(any_order.bytes, want) == 0);
     }
     // The files: the same bytes as write_image of the float image, through libpng (.png) and OpenImageIO (.jpg).
     const glm::dvec4 bg(0.25, 0.5, 0.75, 0.125);
@@ -443,9 +439,7 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
     CHECK(file_bytes(dir / "big6.png") != file_bytes(dir / "big_oiio.png"));
     const Image a = read_image((dir / "big6.png").string()), b = read_image((dir / "big_oiio.png").string());
     REQUIRE(a.pixels.size() == b.pixels.size());
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < a.pixels.size(); ++i) differ += a.pixels[i] != b.pixels[i];
-    CHECK(differ == 0);
+    CHECK(values_differing(a, b) == 0);
     fs::remove_all(dir);
 }
 

@@ -103,6 +103,22 @@ void compose_range(const std::int32_t* pixel, const float* r, const float* g, co
     background(p, p1);
 }
 
+// compose_range(..., put_of(t)) over each of `threads` ranges of pixels, the fragments (in pixel order) that land
+// in a range found by binary search; each thread writes its own range.
+template <class PutOf>
+void compose_ranges(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], int threads,
+                    const PutOf& put_of) {
+    const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
+    const std::int32_t* const pixel = fb.pixel.data();
+    const float *r = rgb.data(), *g = r + n, *b = g + n;
+    run_parallel(threads, [&](int t) {
+        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
+        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
+        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
+        put_of(t, [&](const auto& put) { compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, put); });
+    });
+}
+
 // compose_range's two ways to write a pixel of `out`: ordinary stores, or (SSE2, out 16-byte aligned) one
 // non-temporal 16-byte store, which writes past the caches. An ordinary store first reads the line it writes
 // into the cache ("read for ownership"), so an image far larger than the caches costs its size twice in memory
@@ -151,40 +167,40 @@ void compose_unordered(const FragmentBuffer& fb, const std::vector<float>& rgb, 
     }
 }
 
+// The background of `background` as compose_range takes it.
+struct Background {
+    float v[4];
+    explicit Background(const glm::dvec4& b) : v{float(b[0]), float(b[1]), float(b[2]), float(b[3])} {}
+};
+
 }  // namespace
 
 void compose_image_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
                         Image& img) {
     check_composable(fb, rgb);
-    const std::size_t n = fb.size();
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
     img.width = fb.width;
     img.height = fb.height;
     img.channels = 4;
     size_for_frame(img.pixels, npix * 4);
-    const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
+    const Background bg(background);
     float* const out = img.pixels.data();
-    const std::int32_t* const pixel = fb.pixel.data();
     // Rows in parallel when the fragments come in pixel order (as the rasteriser emits them): each thread
     // writes its own pixel range, with the fragments that land in it, found by binary search.
     const int threads = thread_count(0, npix / 65536);
-    if (!in_pixel_order(fb, threads)) return compose_unordered(fb, rgb, bg, out);
+    if (!in_pixel_order(fb, threads)) return compose_unordered(fb, rgb, bg.v, out);
 #if defined(__SSE2__)
     const bool stream = npix * 4 * sizeof(float) >= kStreamImageBytes && std::uintptr_t(out) % 16 == 0;
 #endif
-    run_parallel(threads, [&](int t) {
-        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
-        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
-        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
-        const float *r = rgb.data(), *g = r + n, *b = g + n;
+    compose_ranges(fb, rgb, bg.v, threads, [&](int, const auto& compose) {
 #if defined(__SSE2__)
         if (stream) {
-            compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, StreamPixel{out});
+            compose(StreamPixel{out});
             _mm_sfence();
             return;
         }
 #endif
-        compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, PutPixel{out});
+        compose(PutPixel{out});
     });
 }
 
@@ -345,35 +361,30 @@ void put_background(const PutCoded& put, std::size_t from, std::size_t to, const
 void compose_image_srgb8_into(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& background,
                               const std::string& path, Srgb8Image& img) {
     check_composable(fb, rgb);
-    const std::size_t n = fb.size();
     const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
-    const std::int32_t* const pixel = fb.pixel.data();
     const int threads = thread_count(0, npix / 65536);
+    const Background bg(background);
     img.width = fb.width;
     img.height = fb.height;
     img.channels = 4;
     if (!in_pixel_order(fb, threads)) {
         // Any order: through the float image, on one thread (compose_unordered), then coded.
-        const Image linear = compose_image(fb, rgb, background);
+        Image linear(fb.width, fb.height, 4);
+        compose_unordered(fb, rgb, bg.v, linear.pixels.data());
         refuse_non_finite(path, count_non_finite(linear));
         img.bytes = encode_srgb8(linear);
         return;
     }
     size_for_frame(img.bytes, npix * 4);
     const Srgb8Table& table = srgb8_table();
-    const float bg[4] = {float(background[0]), float(background[1]), float(background[2]), float(background[3])};
     unsigned char bg_code[4];
-    const bool bg_finite = code_pixel(table, bg, bg_code) == 0;
+    const bool bg_finite = code_pixel(table, bg.v, bg_code) == 0;
     std::uint32_t bg_word;
     std::memcpy(&bg_word, bg_code, 4);
     std::vector<std::size_t> bad_of(std::size_t(threads), 0);
-    run_parallel(threads, [&](int t) {
-        const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
-        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
-        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
-        const float *r = rgb.data(), *g = r + n, *b = g + n;
-        std::size_t bad = 0;
-        compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, PutCoded{table, img.bytes.data(), bg_finite, bg_word, bad});
+    compose_ranges(fb, rgb, bg.v, threads, [&](int t, const auto& compose) {
+        std::size_t bad = 0;   // (a thread's own: counters side by side in bad_of would share a cache line)
+        compose(PutCoded{table, img.bytes.data(), bg_finite, bg_word, bad});
         bad_of[std::size_t(t)] = bad;
     });
     std::size_t bad = 0;
@@ -403,6 +414,11 @@ struct Rows8Sink {
     std::function<void()> abandon;
 };
 
+// Rows a block of about 1 MB holds (at least one), for handing 8-bit rows to a Rows8Sink.
+int rows_per_block(std::size_t row_bytes) {
+    return std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row_bytes)));
+}
+
 // The 8-bit image written block by block of rows: a second thread codes block k + 1 while the writer
 // compresses block k (PNG's deflate runs on one thread), so the coding costs almost no wall time on a
 // machine with a free core, instead of a whole pass over the float image before the first byte is written.
@@ -411,7 +427,7 @@ struct Rows8Sink {
 bool write_srgb8_pipelined(const Rows8Sink& sink, const Image& img, const std::string& path) {
     const Srgb8Table& table = srgb8_table();
     const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
-    const int block = std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row)));   // ~1 MB
+    const int block = rows_per_block(row);
     const int blocks = (img.height + block - 1) / block;
     std::vector<unsigned char> buf[2];
     for (auto& b : buf) b.resize(std::size_t(block) * row);
@@ -446,7 +462,7 @@ bool write_srgb8_pipelined(const Rows8Sink& sink, const Image& img, const std::s
 // Rows of an image already coded (compose_image_srgb8), handed over in blocks of about 1 MB.
 bool write_srgb8_rows(const Rows8Sink& sink, const Srgb8Image& img) {
     const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
-    const int block = std::max(1, int((std::size_t(1) << 20) / std::max<std::size_t>(1, row)));
+    const int block = rows_per_block(row);
     for (int y0 = 0; y0 < img.height; y0 += block)
         if (!sink.write(y0, std::min(img.height, y0 + block), img.bytes.data() + std::size_t(y0) * row)) return false;
     return true;
