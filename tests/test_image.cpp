@@ -16,7 +16,10 @@
 #include "image/image.hpp"
 #include "image/exr_writer.hpp"
 #include "image/image_io.hpp"
+#include "image/png_writer.hpp"
 #include "support.hpp"
+
+#include <png.h>
 
 using namespace shadelab;
 namespace fs = std::filesystem;
@@ -325,14 +328,22 @@ TEST_CASE("8-bit writes count NaN and Inf while coding: refused in the last row 
     // 8-bit formats find NaN/Inf while coding row blocks (about 1 MB each) as they are written: a bad value in
     // the first block, in the last one and on a 1-channel image must all be refused with the full count,
     // leaving neither the target nor a temporary file; a clean image of the same size is written.
+    // PNG's pieces (2.4 MB of rows here: three pieces) stop all their threads at the first one: 2 threads, and
+    // libpng's single stream (1 thread).
     const fs::path dir = test::scratch_dir("image_nan8");
     Image big(1024, 600, 4);   // 4 KB rows: 256 rows a block, so the last value lies in the third block
     for (float& v : big.pixels) v = 0.5f;
-    big.pixels.back() = std::nanf("");
-    big.at(3, 0, 0) = -INFINITY;
-    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("2 pixel values are NaN or Inf"));
-    big.at(3, 0, 0) = 0.5f;
-    REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big), Catch::Contains("1 pixel values are NaN or Inf"));
+    for (int threads : {2, 1}) {
+        INFO(threads << " PNG threads");
+        ImageWriteOptions o;
+        o.png_threads = threads;
+        big.pixels.back() = std::nanf("");
+        big.at(3, 0, 0) = -INFINITY;
+        REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big, o), Catch::Contains("2 pixel values are NaN or Inf"));
+        big.at(3, 0, 0) = 0.5f;
+        REQUIRE_THROWS_WITH(write_image((dir / "late.png").string(), big, o), Catch::Contains("1 pixel values are NaN or Inf"));
+        REQUIRE_THROWS_WITH(write_image((dir / "late.jpg").string(), big, o), Catch::Contains("1 pixel values are NaN or Inf"));
+    }
     Image grey(5, 3, 1);
     grey.at(4, 2, 0) = INFINITY;
     REQUIRE_THROWS_WITH(write_image((dir / "grey.png").string(), grey), Catch::Contains("1 pixel values are NaN or Inf"));
@@ -431,15 +442,118 @@ TEST_CASE("PNG by libpng equals OpenImageIO's file byte for byte, 1-4 channels, 
     for (float& v : big.pixels) v = u(rng);
     ImageWriteOptions mem8;
     mem8.png_mem_level = 8;
+    mem8.png_threads = 1;   // libpng's own stream (more threads deflate this image in pieces: the next test)
     write_image((dir / "big.png").string(), big, mem8);
     write_with_oiio(dir / "big_oiio.png", big, true, defaults);
     CHECK(file_bytes(dir / "big.png") == file_bytes(dir / "big_oiio.png"));
     // shadelab's default memLevel (6): another deflate stream, the same pixels
-    write_image((dir / "big6.png").string(), big);
+    ImageWriteOptions mem6;
+    mem6.png_threads = 1;
+    write_image((dir / "big6.png").string(), big, mem6);
     CHECK(file_bytes(dir / "big6.png") != file_bytes(dir / "big_oiio.png"));
     const Image a = read_image((dir / "big6.png").string()), b = read_image((dir / "big_oiio.png").string());
     REQUIRE(a.pixels.size() == b.pixels.size());
     CHECK(values_differing(a, b) == 0);
+    fs::remove_all(dir);
+}
+
+namespace {
+
+// A PNG's 8-bit samples as libpng decodes them (its simplified API, which checks every chunk's CRC and the zlib
+// stream's Adler-32), in the file's own layout; empty when libpng refuses the file.
+std::vector<unsigned char> png_samples(const fs::path& file, int& width, int& height, int& channels) {
+    png_image im{};
+    im.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&im, file.string().c_str())) return {};
+    width = int(im.width);
+    height = int(im.height);
+    channels = int(PNG_IMAGE_SAMPLE_CHANNELS(im.format));
+    std::vector<unsigned char> out(PNG_IMAGE_SIZE(im));
+    if (!png_image_finish_read(&im, nullptr, out.data(), 0, nullptr)) return {};
+    return out;
+}
+
+// `bytes` (width x height x channels) written by PngWriter: row by row through libpng (piece_bytes 0), or with
+// image_in_pieces in pieces of piece_bytes on `threads` threads.
+void write_png_bytes(const fs::path& file, const std::vector<unsigned char>& bytes, int width, int height,
+                     int channels, int level, int filter, std::size_t piece_bytes, int threads) {
+    PngWriter png(file.string(), width, height, channels, level, filter, 6);
+    REQUIRE(png.ok());
+    const std::size_t row = std::size_t(width) * std::size_t(channels);
+    if (piece_bytes == 0) {
+        REQUIRE(png.rows(0, height, bytes.data()));
+    } else {
+        const PngRowSource rows = [&](int y0, int y1, unsigned char* scratch) {   // copied, as a float image's
+            std::copy(bytes.begin() + std::ptrdiff_t(std::size_t(y0) * row),
+                      bytes.begin() + std::ptrdiff_t(std::size_t(y1) * row), scratch);
+            return static_cast<const unsigned char*>(scratch);
+        };
+        REQUIRE(png.image_in_pieces(rows, threads, piece_bytes));
+    }
+    REQUIRE(png.finish());
+}
+
+}  // namespace
+
+TEST_CASE("PNG deflated in pieces on several threads: one piece is libpng's file byte for byte, many decode to the same samples", "[image]") {
+    // image_in_pieces joins raw deflate pieces into one zlib stream (sync flushes, each piece's dictionary the
+    // 32 KB before it, the Adler-32s combined): with one piece it must be libpng's own file, byte for byte;
+    // with many, on 1-3 threads, a file libpng reads back (CRCs and Adler-32 checked) to the same samples.
+    const fs::path dir = test::scratch_dir("image_png_pieces");
+    std::mt19937 rng(11);
+    int cases = 0;
+    struct Shape {
+        int width, height, channels;
+    };
+    // rows of odd widths; a row longer than a piece (pieces of one row); one column. Each image more than 16 KB
+    // of rows: libpng narrows the window of a smaller one, and its file is then another (valid) stream.
+    for (const Shape& sh : {Shape{301, 220, 4}, Shape{157, 190, 3}, Shape{4000, 7, 1}, Shape{1, 9000, 2}}) {
+        std::vector<unsigned char> bytes(std::size_t(sh.width) * std::size_t(sh.height) * std::size_t(sh.channels));
+        // smooth ramps with noise and runs of zeros: matches near and far, across the pieces' boundaries
+        for (std::size_t i = 0; i < bytes.size(); ++i)
+            bytes[i] = (i / 97) % 5 == 0 ? 0 : static_cast<unsigned char>((i / 13) + (rng() % 7));
+        for (int filter : {32, 8}) {
+            for (int level : {1, 6, 0}) {
+                INFO(sh.width << "x" << sh.height << "x" << sh.channels << ", filter " << filter << ", level " << level);
+                write_png_bytes(dir / "rows.png", bytes, sh.width, sh.height, sh.channels, level, filter, 0, 1);
+                write_png_bytes(dir / "one.png", bytes, sh.width, sh.height, sh.channels, level, filter,
+                                std::size_t(1) << 30, 2);
+                // (zlib's stored blocks, level 0, fall where libpng's output buffer fills, not where ours does)
+                if (level > 0)
+                    CHECK((file_bytes(dir / "one.png") == file_bytes(dir / "rows.png")));   // (not printed: a whole file)
+                for (int threads : {1, 2, 3}) {
+                    INFO(threads << " threads");
+                    write_png_bytes(dir / "many.png", bytes, sh.width, sh.height, sh.channels, level, filter, 5000,
+                                    threads);
+                    int w = 0, h = 0, c = 0;
+                    const std::vector<unsigned char> back = png_samples(dir / "many.png", w, h, c);
+                    REQUIRE(back.size() == bytes.size());
+                    CHECK((w == sh.width && h == sh.height && c == sh.channels));
+                    CHECK(differing(back, bytes) == 0);
+                    CHECK(file_bytes(dir / "many.png") != file_bytes(dir / "rows.png"));   // pieces, not one stream
+                    ++cases;
+                }
+            }
+        }
+    }
+    CHECK(cases == 72);
+    // write_image: pieces on two threads by the options, the same samples as libpng's own stream
+    Image img(1500, 800, 4);
+    std::uniform_real_distribution<float> u(-0.1f, 1.2f);
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = (i / 4096) % 3 == 0 ? 0.2f : u(rng);
+    ImageWriteOptions one, two;
+    one.png_threads = 1;
+    two.png_threads = 2;
+    write_image((dir / "one.png").string(), img, one);
+    write_image((dir / "two.png").string(), img, two);
+    const std::string a = file_bytes(dir / "one.png"), b = file_bytes(dir / "two.png");
+    CHECK(a != b);
+    CHECK(double(b.size()) < 1.01 * double(a.size()));   // the dictionaries keep the pieces' matches
+    int w = 0, h = 0, c = 0;
+    const std::vector<unsigned char> sa = png_samples(dir / "one.png", w, h, c), sb = png_samples(dir / "two.png", w, h, c);
+    REQUIRE(sa.size() == img.pixels.size());
+    REQUIRE(sb.size() == sa.size());
+    CHECK(differing(sa, sb) == 0);
     fs::remove_all(dir);
 }
 

@@ -1,6 +1,7 @@
 #include "image/image.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -512,13 +513,30 @@ bool write_with_oiio(const std::string& file, const std::string& path, const ima
     return ok && closed;
 }
 
-// A PNG of width x height x channels through libpng itself (image/png_writer.hpp), its rows from `rows8`.
+// The filtered rows of a PNG deflated in one piece of this size a thread at a time (PngWriter::image_in_pieces).
+constexpr std::size_t kPngPieceBytes = std::size_t(1) << 20;
+
+// Whether write_png_direct deflates in pieces on several threads: the options' threads (0: all) are more than
+// one, their filter is one the pieces take, and the image's filtered rows fill at least two pieces (a smaller
+// image deflates in a few milliseconds).
+bool png_in_pieces(int width, int height, int channels, const ImageWriteOptions& options) {
+    const double filtered = double(height) * (double(width) * double(channels) + 1.0);
+    return PngWriter::pieces_take_filter(options.png_filter) && filtered >= 2.0 * double(kPngPieceBytes) &&
+           thread_count(options.png_threads, 2) > 1;
+}
+
+// A PNG of width x height x channels through libpng itself (image/png_writer.hpp): its rows from `pieces`,
+// deflated on all threads, where png_in_pieces says so, else from `rows8` in libpng's own single stream.
 bool write_png_direct(const std::string& file, int width, int height, int channels, const Rows8Source& rows8,
-                      const ImageWriteOptions& options, std::string& why) {
+                      const PngRowSource& pieces, const ImageWriteOptions& options, std::string& why) {
     PngWriter png(file, width, height, channels, options.png_level, options.png_filter, options.png_mem_level);
     const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) { return png.rows(y0, y1, rows); },
                          [&] { png.abandon(); }};
-    const bool ok = png.ok() && rows8(sink) && png.finish();
+    const bool ok = png.ok() &&
+                    (png_in_pieces(width, height, channels, options)
+                         ? png.image_in_pieces(pieces, options.png_threads, kPngPieceBytes)
+                         : rows8(sink)) &&
+                    png.finish();
     if (!ok) why = png.error();
     return ok;
 }
@@ -547,7 +565,21 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
         path, "image",
         [&](const std::string& tmp, std::string& why) {
             const Rows8Source rows8 = [&](const Rows8Sink& sink) { return write_srgb8_pipelined(sink, img, path); };
-            if (direct_png) return write_png_direct(tmp, img.width, img.height, img.channels, rows8, options, why);
+            if (direct_png) {
+                // each piece codes its own rows; the first NaN or Inf stops every piece, then the refusal
+                const Srgb8Table& table = srgb8_table();
+                const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
+                std::atomic<bool> bad{false};
+                const PngRowSource pieces = [&](int y0, int y1, unsigned char* scratch) -> const unsigned char* {
+                    if (encode_srgb8_values(table, img, std::size_t(y0) * row, std::size_t(y1) * row, scratch) == 0)
+                        return scratch;
+                    bad = true;
+                    return nullptr;
+                };
+                const bool ok = write_png_direct(tmp, img.width, img.height, img.channels, rows8, pieces, options, why);
+                if (bad) refuse_non_finite(path, count_non_finite(img));
+                return ok;
+            }
             if (direct_exr) return write_exr(tmp, img, options.exr_compression, why);
             return write_with_oiio(tmp, path, image_io::write_spec(img, enc == Encoding::Srgb8, options), rows8,
                                    img.pixels.data(), why);
@@ -567,7 +599,9 @@ void write_image(const std::string& path, const Srgb8Image& img, const ImageWrit
     write_file_atomically(
         path, "image",
         [&](const std::string& tmp, std::string& why) {
-            if (ext == ".png") return write_png_direct(tmp, img.width, img.height, img.channels, rows8, options, why);
+            const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
+            const PngRowSource pieces = [&](int y0, int, unsigned char*) { return img.bytes.data() + std::size_t(y0) * row; };
+            if (ext == ".png") return write_png_direct(tmp, img.width, img.height, img.channels, rows8, pieces, options, why);
             return write_with_oiio(tmp, path, spec, rows8, nullptr, why);
         },
         fs::path(path).extension().string());

@@ -77,6 +77,10 @@ struct ImageWriteOptions {
     // renders 1.02-1.2x faster than zlib's default 8, which OpenImageIO uses, for files within 0.3%
     // (docs/speed.md, "png-mem-level").
     int png_mem_level = 6;
+    // Threads deflating a PNG (0: all hardware threads): an image of 2 MB of rows or more is deflated in pieces
+    // of 1 MB on these threads and the pieces joined into one zlib stream (image/png_writer.hpp), with the
+    // filters "up" (the default) and "none". 1: libpng's own stream, the file OpenImageIO writes byte for byte.
+    int png_threads = 0;
 };
 
 // FITS goes through image/fits.hpp (one grey plane). Writes atomically (a temporary file in the same folder, then rename), so an interrupted run never

@@ -1,9 +1,15 @@
 #include "image/png_writer.hpp"
 
+#include "raster/parallel.hpp"
+
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <atomic>
 #include <csetjmp>
+#include <cstring>
+#include <memory>
 #include <vector>
 
 namespace shadelab {
@@ -45,11 +51,103 @@ int colour_type(int channels) {
     }
 }
 
+// PNG's filter of one row (PNG specification, 9.2): the filter-type byte, then for "none" the row's bytes, for
+// "up" each byte minus the byte above it (0 above the first row, as libpng's zeroed previous row).
+void filter_row(bool up, const unsigned char* row, const unsigned char* above, std::size_t n, unsigned char* out) {
+    out[0] = up ? PNG_FILTER_VALUE_UP : PNG_FILTER_VALUE_NONE;
+    if (up && above) {
+        for (std::size_t i = 0; i < n; ++i) out[1 + i] = static_cast<unsigned char>(row[i] - above[i]);
+    } else {
+        std::memcpy(out + 1, row, n);
+    }
+}
+
+// What every piece of image_in_pieces shares.
+struct PieceSettings {
+    int level, mem_level;
+    bool up;              // the "up" filter, else "none"
+    std::size_t row;      // bytes of a row (before its filter byte)
+    int batch_rows;       // rows filtered and deflated at a time
+    int dictionary_rows;  // rows whose filtered bytes hold the 32 KB dictionary (<= batch_rows)
+};
+
+// One piece of the stream: its compressed bytes, the Adler-32 and length of its filtered rows.
+struct Piece {
+    std::unique_ptr<unsigned char[]> out;   // not initialised: only the bytes deflate writes are touched
+    std::size_t size = 0;
+    uLong adler = 1, in = 0;                 // adler32's start value
+    std::string error;
+};
+
+constexpr std::size_t kWindow = 32768;       // deflate's window: how far back a match reaches
+
+// The last min(32 KB, what there is) filtered bytes before row y0, set as the dictionary of a raw stream that
+// starts at y0: the matches of its first rows reach back as those of one stream do. False if the source stopped.
+bool set_dictionary(z_stream& zs, const PngRowSource& rows, const PieceSettings& s, int y0, unsigned char* scratch,
+                    unsigned char* filtered) {
+    const std::size_t frow = s.row + 1;
+    const int d = std::min(y0, s.dictionary_rows), from = std::max(0, y0 - d - 1);
+    const unsigned char* src = rows(from, y0, scratch);
+    if (!src) return false;
+    for (int y = y0 - d; y < y0; ++y) {
+        const unsigned char* cur = src + std::size_t(y - from) * s.row;
+        filter_row(s.up, cur, y > 0 ? cur - s.row : nullptr, s.row, filtered + std::size_t(y - (y0 - d)) * frow);
+    }
+    const std::size_t have = std::size_t(d) * frow, n = std::min(have, kWindow);
+    return deflateSetDictionary(&zs, filtered + have - n, uInt(n)) == Z_OK;
+}
+
+// Rows [y0, y1) filtered and deflated into piece.out: a zlib stream's start (header) when y0 is 0, else raw
+// deflate; ended by Z_FINISH when `last` (the trailer too when also y0 is 0), else by a sync flush (the
+// stream continues on a byte boundary). False when the source stopped (piece.error empty) or zlib failed.
+bool deflate_piece(const PngRowSource& rows, const PieceSettings& s, int y0, int y1, bool last, Piece& piece) {
+    const std::size_t frow = s.row + 1;
+    z_stream zs{};
+    if (deflateInit2(&zs, s.level, Z_DEFLATED, y0 == 0 ? 15 : -15, s.mem_level, Z_DEFAULT_STRATEGY) != Z_OK) {
+        piece.error = "zlib could not start a stream (out of memory?)";
+        return false;
+    }
+    struct End {
+        z_stream* z;
+        ~End() { deflateEnd(z); }
+    } end{&zs};
+    const std::unique_ptr<unsigned char[]> scratch(new unsigned char[std::size_t(s.batch_rows + 1) * s.row]);
+    const std::unique_ptr<unsigned char[]> filtered(new unsigned char[std::size_t(s.batch_rows) * frow]);
+    if (y0 > 0 && !set_dictionary(zs, rows, s, y0, scratch.get(), filtered.get())) return false;
+    piece.in = uLong(std::size_t(y1 - y0) * frow);
+    const std::size_t cap = deflateBound(&zs, piece.in) + 64;   // and the sync flush's marker, the trailer
+    piece.out.reset(new unsigned char[cap]);
+    zs.next_out = piece.out.get();
+    zs.avail_out = uInt(cap);
+    for (int y = y0; y < y1; y += s.batch_rows) {
+        const int e = std::min(y1, y + s.batch_rows), from = std::max(0, y - 1);
+        const unsigned char* src = rows(from, e, scratch.get());
+        if (!src) return false;
+        for (int k = y; k < e; ++k) {
+            const unsigned char* cur = src + std::size_t(k - from) * s.row;
+            filter_row(s.up, cur, k > 0 ? cur - s.row : nullptr, s.row, filtered.get() + std::size_t(k - y) * frow);
+        }
+        const std::size_t n = std::size_t(e - y) * frow;
+        piece.adler = adler32(piece.adler, filtered.get(), uInt(n));
+        zs.next_in = filtered.get();
+        zs.avail_in = uInt(n);
+        const int flush = e < y1 ? Z_NO_FLUSH : (last ? Z_FINISH : Z_SYNC_FLUSH);
+        const int r = deflate(&zs, flush);
+        if (zs.avail_in != 0 || r != (flush == Z_FINISH ? Z_STREAM_END : Z_OK)) {
+            piece.error = "zlib could not deflate the rows";
+            return false;
+        }
+    }
+    piece.size = cap - zs.avail_out;
+    return true;
+}
+
 }  // namespace
 
 PngWriter::PngWriter(const std::string& file, int width, int height, int channels, int zlib_level, int filter,
                      int zlib_mem_level)
-    : width_(width), channels_(channels) {
+    : width_(width), height_(height), channels_(channels), level_(std::clamp(zlib_level, 0, 9)), filter_(filter),
+      mem_level_(std::clamp(zlib_mem_level, 1, 9)) {
     file_ = std::fopen(file.c_str(), "wb");
     if (!file_) {
         error_ = "cannot create the file";
@@ -67,9 +165,9 @@ PngWriter::PngWriter(const std::string& file, int width, int height, int channel
     }
     guarded(png, error_, [&] {
         png_init_io(png, file_);
-        png_set_compression_level(png, zlib_level < 0 ? 0 : (zlib_level > 9 ? 9 : zlib_level));
+        png_set_compression_level(png, level_);
         png_set_compression_strategy(png, Z_DEFAULT_STRATEGY);   // as OpenImageIO sets it (libpng's own: Z_FILTERED)
-        png_set_compression_mem_level(png, zlib_mem_level < 1 ? 1 : (zlib_mem_level > 9 ? 9 : zlib_mem_level));
+        png_set_compression_mem_level(png, mem_level_);
         if (filter != 0) png_set_filter(png, PNG_FILTER_TYPE_BASE, filter);
         png_set_IHDR(png, info, png_uint_32(width), png_uint_32(height), 8, colour_type(channels), PNG_INTERLACE_NONE,
                      PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
@@ -102,8 +200,72 @@ bool PngWriter::rows(int y0, int y1, const unsigned char* data) {
     return ok();
 }
 
+bool PngWriter::pieces_take_filter(int filter) { return filter == PNG_FILTER_NONE || filter == PNG_FILTER_UP; }
+
+bool PngWriter::image_in_pieces(const PngRowSource& rows, int threads, std::size_t piece_bytes) {
+    if (!ok()) return false;
+    if (!pieces_take_filter(filter_)) {
+        error_ = "internal: image_in_pieces called for row filter " + std::to_string(filter_);
+        return false;
+    }
+    PieceSettings s{};
+    s.level = level_;
+    s.mem_level = mem_level_;
+    s.up = filter_ == PNG_FILTER_UP;
+    s.row = std::size_t(width_) * std::size_t(channels_);
+    const std::size_t frow = s.row + 1;
+    s.dictionary_rows = int((kWindow + frow - 1) / frow);
+    s.batch_rows = std::max(s.dictionary_rows, int(std::max<std::size_t>(1, (std::size_t(1) << 18) / frow)));
+    const int piece_rows = int(std::clamp<std::size_t>(piece_bytes / frow, 1, std::size_t(height_)));
+    const int pieces = (height_ + piece_rows - 1) / piece_rows;
+    std::vector<Piece> out(static_cast<std::size_t>(pieces));
+    std::atomic<int> next{0};
+    std::atomic<bool> stop{false};
+    run_parallel(thread_count(threads, std::size_t(pieces)), [&](int) {
+        for (int i = next++; i < pieces && !stop; i = next++) {
+            const int y0 = i * piece_rows, y1 = std::min(height_, y0 + piece_rows);
+            if (!deflate_piece(rows, s, y0, y1, i == pieces - 1, out[std::size_t(i)])) stop = true;
+        }
+    });
+    for (const Piece& p : out)
+        if (!p.error.empty()) error_ = p.error;
+    if (stop && error_.empty()) error_ = "stopped";
+    if (!ok()) return false;
+    if (pieces > 1) {   // the stream's trailer: the Adler-32 of all filtered rows, big-endian, after the last piece
+        uLong adler = out[0].adler;
+        for (std::size_t i = 1; i < out.size(); ++i) adler = adler32_combine(adler, out[i].adler, z_off_t(out[i].in));
+        Piece& last = out.back();
+        for (int k = 3; k >= 0; --k) last.out[last.size++] = static_cast<unsigned char>(adler >> (8 * k));
+    }
+    // The stream in IDAT chunks of libpng's size (its compression buffer), each chunk across pieces as it falls.
+    auto* png = static_cast<png_structp>(png_);
+    std::size_t total = 0;
+    for (const Piece& p : out) total += p.size;
+    const std::size_t chunk = std::max<std::size_t>(1, png_get_compression_buffer_size(png));
+    static const png_byte idat[5] = "IDAT", iend[5] = "IEND";
+    guarded(png, error_, [&] {
+        std::size_t piece = 0, at = 0;   // the next byte to write: out[piece].out[at]
+        for (std::size_t done = 0; done < total;) {
+            const std::size_t len = std::min(chunk, total - done);
+            png_write_chunk_start(png, idat, png_uint_32(len));
+            for (std::size_t left = len; left > 0;) {
+                const std::size_t n = std::min(left, out[piece].size - at);
+                png_write_chunk_data(png, out[piece].out.get() + at, n);
+                left -= n;
+                at += n;
+                if (at == out[piece].size) ++piece, at = 0;
+            }
+            png_write_chunk_end(png);
+            done += len;
+        }
+        png_write_chunk(png, iend, nullptr, 0);
+    });
+    ended_ = ok();
+    return ok();
+}
+
 bool PngWriter::finish() {
-    if (ok()) {
+    if (ok() && !ended_) {
         auto* png = static_cast<png_structp>(png_);
         auto* info = static_cast<png_infop>(info_);
         guarded(png, error_, [&] { png_write_end(png, info); });
