@@ -324,6 +324,89 @@ TEST_CASE("compose_image_srgb8_into equals encode_srgb8 of compose_image byte fo
     fs::remove_all(dir);
 }
 
+namespace {
+
+// The message compose_image_srgb8_into refuses with for `path`, or "" when it composes.
+std::string compose_refusal(const FragmentBuffer& fb, const std::vector<float>& rgb, const glm::dvec4& bg,
+                            const std::string& path) {
+    Srgb8Image img;
+    try {
+        compose_image_srgb8_into(fb, rgb, bg, path, img);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+// render writes its PNG with write_image_composed, which composes each deflate piece's rows inside the piece: the
+// file must be write_image's of compose_image_srgb8_into's image, byte for byte, in pieces or not (1 thread, a
+// .jpg, fragments out of pixel order), and NaN or Inf refused with compose_image_srgb8_into's message.
+TEST_CASE("write_image_composed writes write_image's file of the composed image byte for byte, and refuses NaN as it", "[image]") {
+    const int w = 1100, h = 900, npix = w * h;   // 4 MB of rows: four pieces
+    FragmentBuffer fwd, rev;
+    fwd.width = rev.width = w;
+    fwd.height = rev.height = h;
+    std::vector<int> covered;
+    for (int p = 0; p < npix; p += (p / w) % 50 < 20 ? 1 : 3) covered.push_back(p);   // solid bands, sparse bands
+    for (int p : covered) fwd.push_back(0, 0, 0, 0, 0, 1, p, 1.0f);
+    for (auto it = covered.rbegin(); it != covered.rend(); ++it) rev.push_back(0, 0, 0, 0, 0, 1, *it, 1.0f);
+    const std::size_t n = covered.size();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    std::vector<float> rgb(3 * n), rgb_rev(3 * n);
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < 3; ++c) rgb_rev[c * n + (n - 1 - i)] = rgb[c * n + i] = u(rng);
+    const fs::path dir = test::scratch_dir("image_composed");
+    ImageWriteOptions one, two;
+    one.png_threads = 1;
+    two.png_threads = 2;
+    CHECK(png_composed_in_pieces("a.png", w, h, two));
+    CHECK_FALSE(png_composed_in_pieces("a.png", w, h, one));
+    CHECK_FALSE(png_composed_in_pieces("a.jpg", w, h, two));
+    CHECK_FALSE(png_composed_in_pieces("a.png", 700, 700, two));   // under 2 MB of rows: libpng's stream
+    int cases = 0;
+    for (const glm::dvec4& bg : {glm::dvec4(0.0), glm::dvec4(0.25, 0.5, 0.75, 0.125), glm::dvec4(-0.0, 2.0, 0.5, 1.0)}) {
+        Srgb8Image coded;
+        compose_image_srgb8_into(fwd, rgb, bg, "x.png", coded);
+        for (const ImageWriteOptions& o : {two, one}) {
+            for (const char* ext : {".png", ".jpg"}) {
+                CAPTURE(bg[0], bg[1], bg[2], bg[3], o.png_threads, ext);
+                const fs::path want = dir / (std::string("want") + ext), ours = dir / (std::string("ours") + ext);
+                write_image(want.string(), coded, o);
+                write_image_composed(ours.string(), fwd, rgb, bg, o);
+                const std::string a = file_bytes(ours);
+                CHECK(a.size() > 1000);
+                CHECK((a == file_bytes(want)));   // (not printed: a whole file)
+                write_image_composed(ours.string(), rev, rgb_rev, bg, o);   // any order: composed first
+                CHECK((file_bytes(ours) == a));
+                ++cases;
+            }
+        }
+    }
+    CHECK(cases == 12);
+    // NaN and Inf: compose_image_srgb8_into's refusal (the full count), and no file
+    std::vector<float> bad = rgb;
+    bad[n - 5] = std::nanf("");    // in the last piece
+    bad[2 * n + 9] = -INFINITY;    // in the first
+    const glm::dvec4 bg(0.25, 0.5, 0.75, 1.0), nan_bg(0.1, std::nan(""), 0.1, 1.0);
+    const std::string path = (dir / "bad.png").string();
+    const std::string want_bad = compose_refusal(fwd, bad, bg, path), want_bg = compose_refusal(fwd, rgb, nan_bg, path);
+    CHECK_THAT(want_bad, Catch::Contains("2 pixel values are NaN or Inf"));
+    CHECK_THAT(want_bg, Catch::Contains(" pixel values are NaN or Inf"));
+    for (const ImageWriteOptions& o : {two, one}) {
+        CAPTURE(o.png_threads);
+        CHECK_THROWS_WITH(write_image_composed(path, fwd, bad, bg, o), want_bad);
+        CHECK_THROWS_WITH(write_image_composed(path, fwd, rgb, nan_bg, o), want_bg);
+    }
+    std::size_t left = 0;
+    for (const auto& e : fs::directory_iterator(dir))   // (want.* and ours.* are the files written above)
+        left += e.path().stem() != "want" && e.path().stem() != "ours" ? 1 : 0;
+    CHECK(left == 0);
+    fs::remove_all(dir);
+}
+
 TEST_CASE("8-bit writes count NaN and Inf while coding: refused in the last row block too, nothing left behind", "[image]") {
     // 8-bit formats find NaN/Inf while coding row blocks (about 1 MB each) as they are written: a bad value in
     // the first block, in the last one and on a 1-channel image must all be refused with the full count,

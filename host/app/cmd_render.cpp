@@ -146,7 +146,7 @@ void run_render(RenderArgs a) {
         if (!a.quiet) std::cerr << format_plan(plan, po);
     }
     const auto rgb = pipeline::shade(shader, job, frame, times);
-    pipeline::write(pipeline::resolve(job, frame, rgb, times), times);
+    pipeline::resolve_and_write(job, frame, rgb, times);
     if (!a.quiet) {
         std::cerr << "device " << rt.device_description() << "\n";
         std::cerr << frame.fb.size() << " fragments; " << pipeline::describe(times) << "\n";

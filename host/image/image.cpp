@@ -339,13 +339,14 @@ namespace {
 // and counted, as encode_srgb8 would).
 struct PutCoded {
     const Srgb8Table& table;
-    unsigned char* out;
+    unsigned char* out;       // pixel `first`'s code
     bool bg_finite;
     std::uint32_t bg_code;
     std::size_t& bad;
+    std::size_t first = 0;    // the image's first pixel in `out` (a block of rows: its first pixel)
     void operator()(std::size_t p, float r, float g, float b, float a) const {
         const float v[4] = {r, g, b, a};
-        bad += code_pixel(table, v, out + p * 4);
+        bad += code_pixel(table, v, out + (p - first) * 4);
     }
 };
 
@@ -354,7 +355,15 @@ void put_background(const PutCoded& put, std::size_t from, std::size_t to, const
         for (std::size_t p = from; p < to; ++p) put(p, bg[0], bg[1], bg[2], bg[3]);
         return;
     }
-    for (std::size_t p = from; p < to; ++p) std::memcpy(put.out + p * 4, &put.bg_code, 4);
+    for (std::size_t p = from; p < to; ++p) std::memcpy(put.out + (p - put.first) * 4, &put.bg_code, 4);
+}
+
+// The background's code (PutCoded's bg_code), and whether it has one (false: it holds NaN or Inf).
+bool background_code(const Srgb8Table& table, const float bg[4], std::uint32_t& word) {
+    unsigned char code[4];
+    const bool finite = code_pixel(table, bg, code) == 0;
+    std::memcpy(&word, code, 4);
+    return finite;
 }
 
 }  // namespace
@@ -378,10 +387,8 @@ void compose_image_srgb8_into(const FragmentBuffer& fb, const std::vector<float>
     }
     size_for_frame(img.bytes, npix * 4);
     const Srgb8Table& table = srgb8_table();
-    unsigned char bg_code[4];
-    const bool bg_finite = code_pixel(table, bg.v, bg_code) == 0;
     std::uint32_t bg_word;
-    std::memcpy(&bg_word, bg_code, 4);
+    const bool bg_finite = background_code(table, bg.v, bg_word);
     std::vector<std::size_t> bad_of(std::size_t(threads), 0);
     compose_ranges(fb, rgb, bg.v, threads, [&](int t, const auto& compose) {
         std::size_t bad = 0;   // (a thread's own: counters side by side in bad_of would share a cache line)
@@ -605,6 +612,57 @@ void write_image(const std::string& path, const Srgb8Image& img, const ImageWrit
             return write_with_oiio(tmp, path, spec, rows8, nullptr, why);
         },
         fs::path(path).extension().string());
+}
+
+bool png_composed_in_pieces(const std::string& path, int width, int height, const ImageWriteOptions& options) {
+    return lower_ext(path) == ".png" && png_in_pieces(width, height, 4, options);
+}
+
+void write_image_composed(const std::string& path, const FragmentBuffer& fb, const std::vector<float>& rgb,
+                          const glm::dvec4& background, const ImageWriteOptions& options) {
+    check_composable(fb, rgb);
+    const std::size_t n = fb.size(), width = std::size_t(fb.width);
+    if (!png_composed_in_pieces(path, fb.width, fb.height, options) ||
+        !in_pixel_order(fb, thread_count(0, width * std::size_t(fb.height) / 65536))) {
+        Srgb8Image img;
+        compose_image_srgb8_into(fb, rgb, background, path, img);
+        return write_image(path, img, options);
+    }
+    const Background bg(background);
+    const Srgb8Table& table = srgb8_table();
+    std::uint32_t bg_word;
+    const bool bg_finite = background_code(table, bg.v, bg_word);
+    const std::int32_t* const pixel = fb.pixel.data();
+    const float *r = rgb.data(), *g = r + n, *b = g + n;
+    std::atomic<bool> bad{false};
+    // Each piece's rows composed and coded into its scratch (compose_range from the fragments that land there).
+    const PngRowSource rows = [&](int y0, int y1, unsigned char* scratch) -> const unsigned char* {
+        const std::size_t p0 = std::size_t(y0) * width, p1 = std::size_t(y1) * width;
+        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
+        const std::size_t f1 = std::size_t(std::lower_bound(pixel + f0, pixel + n, std::int32_t(p1)) - pixel);
+        std::size_t nbad = 0;
+        compose_range(pixel, r, g, b, bg.v, p0, p1, f0, f1, PutCoded{table, scratch, bg_finite, bg_word, nbad, p0});
+        if (nbad == 0) return scratch;
+        bad = true;
+        return nullptr;
+    };
+    write_file_atomically(
+        path, "image",
+        [&](const std::string& tmp, std::string& why) {
+            bool ok = false;
+            {
+                PngWriter png(tmp, fb.width, fb.height, 4, options.png_level, options.png_filter, options.png_mem_level);
+                ok = png.ok() && png.image_in_pieces(rows, options.png_threads, kPngPieceBytes) && png.finish();
+                if (!ok) why = png.error();
+            }
+            if (bad) {   // the refusal with compose_image_srgb8_into's message and count
+                Srgb8Image counted;
+                compose_image_srgb8_into(fb, rgb, background, path, counted);
+                throw Error("internal: a non-finite value stopped the PNG of '" + path + "' but was not found again");
+            }
+            return ok;
+        },
+        ".png");
 }
 
 namespace {

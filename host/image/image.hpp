@@ -89,6 +89,16 @@ void write_image(const std::string& path, const Image& img, const ImageWriteOpti
 // An image already coded (compose_image_srgb8_into) to an 8-bit format (encoding_for(path) is Srgb8): the same
 // file as write_image of the float image it was coded from.
 void write_image(const std::string& path, const Srgb8Image& img, const ImageWriteOptions& options = {});
+// The colour image of compose_image_srgb8_into written to `path` (an 8-bit format) as write_image would write it
+// (the same pixels; for PNG the same file as write_image with the same options), without holding the image where
+// it need not: a PNG that png_composed_in_pieces takes is composed row block by row block inside the deflate's
+// pieces, on all threads (no image of its own: 64 MB at 4096 x 4096, and no pass over it). Refuses NaN or Inf
+// with compose_image_srgb8_into's message and count, leaving no file.
+void write_image_composed(const std::string& path, const FragmentBuffer& fb, const std::vector<float>& rgb_planes,
+                          const glm::dvec4& background, const ImageWriteOptions& options = {});
+// Whether write_image_composed composes inside the deflate: a .png whose rows PNG deflates in pieces (2 MB of
+// rows or more, options.png_threads not 1, filter Up or none).
+bool png_composed_in_pieces(const std::string& path, int width, int height, const ImageWriteOptions& options = {});
 // The formats write_image takes, for --help texts and errors: one list, so no command's help can drift from it.
 constexpr const char* kOutputFormats = ".png .jpg .bmp .tga .webp (sRGB 8-bit) or .exr .hdr .tif .fits (linear float)";
 

@@ -336,6 +336,17 @@ Image compose(const Job& job, const Frame& frame, const std::vector<float>& rgb,
     return img;
 }
 
+namespace {
+
+// The depth and normal images the job's outputs ask for, after `images`.
+void add_aov_images(const Job& job, const Frame& frame, std::vector<OutputImage>& images) {
+    const auto& o = job.outputs;
+    if (!o.depth.empty()) images.push_back(OutputImage{o.depth, depth_image(job, frame.fb), {}});
+    if (!o.normal.empty()) images.push_back(OutputImage{o.normal, normal_image(job, frame.fb), {}});
+}
+
+}  // namespace
+
 std::vector<OutputImage> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times) {
     const auto t0 = clock_type::now();
     std::vector<OutputImage> images;
@@ -355,10 +366,25 @@ std::vector<OutputImage> resolve(const Job& job, const Frame& frame, const std::
         for (std::size_t i = 0; i + 1 < o.colour.size(); ++i) images.push_back(OutputImage{o.colour[i], img, {}});
         images.push_back(OutputImage{o.colour.back(), std::move(img), {}});
     }
-    if (!o.depth.empty()) images.push_back(OutputImage{o.depth, depth_image(job, frame.fb), {}});
-    if (!o.normal.empty()) images.push_back(OutputImage{o.normal, normal_image(job, frame.fb), {}});
+    add_aov_images(job, frame, images);
     times.resolve_ms += ms_since(t0);
     return images;
+}
+
+void resolve_and_write(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times) {
+    const auto& o = job.outputs;
+    const bool folded = !o.colour.empty() && std::all_of(o.colour.begin(), o.colour.end(), [&](const std::string& p) {
+        return png_composed_in_pieces(p, frame.fb.width, frame.fb.height);
+    });
+    if (!folded) return write(resolve(job, frame, rgb, times), times);
+    const auto t0 = clock_type::now();
+    std::vector<OutputImage> aovs;
+    add_aov_images(job, frame, aovs);
+    times.resolve_ms += ms_since(t0);
+    const auto t1 = clock_type::now();
+    for (const std::string& path : o.colour) write_image_composed(path, frame.fb, rgb, job.background);
+    times.write_ms += ms_since(t1);
+    write(aovs, times);
 }
 
 void write(const std::vector<OutputImage>& images, StageTimes& times) {

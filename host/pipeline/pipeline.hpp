@@ -35,7 +35,7 @@ struct StageTimes {
     double kernel_ms = 0.0;    // device time of the shading kernels (profiling events)
     double interpolate_ms = 0.0;   // per vertex: interpolating the vertex colours to the fragments (host)
     double shade_ms = 0.0;     // wall time of shading: build + upload + kernel + download (+ interpolation)
-    double resolve_ms = 0.0;   // composing the images and AOVs
+    double resolve_ms = 0.0;   // composing the images and AOVs (a PNG composed in its write: write_ms, resolve_and_write)
     double write_ms = 0.0;
     double plan_ms = 0.0;      // --tolerance: planning (apart from the stages)
     StageTimes& operator+=(const StageTimes& o);
@@ -103,6 +103,11 @@ struct OutputImage {
 // The images the job's outputs ask for, in output order (colour outputs, then depth, then normal).
 std::vector<OutputImage> resolve(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times);
 void write(const std::vector<OutputImage>& images, StageTimes& times);
+// write(resolve(...)), except that colour outputs which are all PNGs deflated in pieces (png_composed_in_pieces)
+// are composed inside their write (write_image_composed): no colour image is held, and the composing counts in
+// write_ms, not resolve_ms. For a process that writes its images at once (render); batch keeps resolve and write
+// apart, to write one job's images while it shades the next.
+void resolve_and_write(const Job& job, const Frame& frame, const std::vector<float>& rgb, StageTimes& times);
 
 // The four stages in a row; returns the number of fragments.
 struct JobRun {
