@@ -4,7 +4,8 @@
 // a channel (grey, grey + alpha, RGB or RGBA by channel count), straight alpha, the sRGB, gAMA and cHRM chunks of
 // an sRGB image, oFFs 0 0, and the text chunks "oiio:ColorSpace" = "sRGB" and "Software" = "shadelab"; zlib level
 // and row filter as ImageWriteOptions gives them, zlib's default strategy; zlib's memLevel as given (OpenImageIO
-// leaves libpng's, 8: the same file only then).
+// leaves libpng's, 8: the same file only then). rows() hands the rows to libpng, which deflates them in one stream
+// on one thread; image_in_pieces deflates them on several threads into another stream of the same pixels.
 #pragma once
 #include <cstddef>
 #include <cstdio>
