@@ -607,8 +607,11 @@ void write_image(const std::string& path, const Srgb8Image& img, const ImageWrit
         path, "image",
         [&](const std::string& tmp, std::string& why) {
             const std::size_t row = std::size_t(img.width) * std::size_t(img.channels);
-            const PngRowSource pieces = [&](int y0, int, unsigned char*) { return img.bytes.data() + std::size_t(y0) * row; };
-            if (ext == ".png") return write_png_direct(tmp, img.width, img.height, img.channels, rows8, pieces, options, why);
+            const PngRowSource pieces = [&](int y0, int, unsigned char*) {
+                return img.bytes.data() + std::size_t(y0) * row;
+            };
+            if (ext == ".png")
+                return write_png_direct(tmp, img.width, img.height, img.channels, rows8, pieces, options, why);
             return write_with_oiio(tmp, path, spec, rows8, nullptr, why);
         },
         fs::path(path).extension().string());

@@ -35,7 +35,7 @@ struct StageTimes {
     double kernel_ms = 0.0;    // device time of the shading kernels (profiling events)
     double interpolate_ms = 0.0;   // per vertex: interpolating the vertex colours to the fragments (host)
     double shade_ms = 0.0;     // wall time of shading: build + upload + kernel + download (+ interpolation)
-    double resolve_ms = 0.0;   // composing the images and AOVs (a PNG composed in its write: write_ms, resolve_and_write)
+    double resolve_ms = 0.0;   // composing the images and AOVs (a PNG composed in its write counts in write_ms)
     double write_ms = 0.0;
     double plan_ms = 0.0;      // --tolerance: planning (apart from the stages)
     StageTimes& operator+=(const StageTimes& o);
