@@ -106,17 +106,26 @@ void compose_range(const std::int32_t* pixel, const float* r, const float* g, co
 
 // compose_range(..., put_of(t)) over each of `threads` ranges of pixels, the fragments (in pixel order) that land
 // in a range found by binary search; each thread writes its own range.
+// compose_range over pixels [p0, p1) of fb's image (fragments in pixel order), with the fragments that land
+// there, found by binary search.
+template <class Put>
+void compose_pixels(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], std::size_t p0,
+                    std::size_t p1, const Put& put) {
+    const std::size_t n = fb.size();
+    const std::int32_t* const pixel = fb.pixel.data();
+    const float *r = rgb.data(), *g = r + n, *b = g + n;
+    const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
+    const std::size_t f1 = std::size_t(std::lower_bound(pixel + f0, pixel + n, std::int32_t(p1)) - pixel);
+    compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, put);
+}
+
 template <class PutOf>
 void compose_ranges(const FragmentBuffer& fb, const std::vector<float>& rgb, const float bg[4], int threads,
                     const PutOf& put_of) {
-    const std::size_t n = fb.size(), npix = std::size_t(fb.width) * std::size_t(fb.height);
-    const std::int32_t* const pixel = fb.pixel.data();
-    const float *r = rgb.data(), *g = r + n, *b = g + n;
+    const std::size_t npix = std::size_t(fb.width) * std::size_t(fb.height);
     run_parallel(threads, [&](int t) {
         const std::size_t p0 = split(npix, threads, t), p1 = split(npix, threads, t + 1);
-        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
-        const std::size_t f1 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p1)) - pixel);
-        put_of(t, [&](const auto& put) { compose_range(pixel, r, g, b, bg, p0, p1, f0, f1, put); });
+        put_of(t, [&](const auto& put) { compose_pixels(fb, rgb, bg, p0, p1, put); });
     });
 }
 
@@ -533,14 +542,15 @@ bool png_in_pieces(int width, int height, int channels, const ImageWriteOptions&
 }
 
 // A PNG of width x height x channels through libpng itself (image/png_writer.hpp): its rows from `pieces`,
-// deflated on all threads, where png_in_pieces says so, else from `rows8` in libpng's own single stream.
+// deflated on all threads, where png_in_pieces says so, else from `rows8` (null: only pieces are asked for) in
+// libpng's own single stream.
 bool write_png_direct(const std::string& file, int width, int height, int channels, const Rows8Source& rows8,
                       const PngRowSource& pieces, const ImageWriteOptions& options, std::string& why) {
     PngWriter png(file, width, height, channels, options.png_level, options.png_filter, options.png_mem_level);
     const Rows8Sink sink{[&](int y0, int y1, const unsigned char* rows) { return png.rows(y0, y1, rows); },
                          [&] { png.abandon(); }};
     const bool ok = png.ok() &&
-                    (png_in_pieces(width, height, channels, options)
+                    (png_in_pieces(width, height, channels, options) || !rows8
                          ? png.image_in_pieces(pieces, options.png_threads, kPngPieceBytes)
                          : rows8(sink)) &&
                     png.finish();
@@ -624,7 +634,7 @@ bool png_composed_in_pieces(const std::string& path, int width, int height, cons
 void write_image_composed(const std::string& path, const FragmentBuffer& fb, const std::vector<float>& rgb,
                           const glm::dvec4& background, const ImageWriteOptions& options) {
     check_composable(fb, rgb);
-    const std::size_t n = fb.size(), width = std::size_t(fb.width);
+    const std::size_t width = std::size_t(fb.width);
     if (!png_composed_in_pieces(path, fb.width, fb.height, options) ||
         !in_pixel_order(fb, thread_count(0, width * std::size_t(fb.height) / 65536))) {
         Srgb8Image img;
@@ -635,16 +645,12 @@ void write_image_composed(const std::string& path, const FragmentBuffer& fb, con
     const Srgb8Table& table = srgb8_table();
     std::uint32_t bg_word;
     const bool bg_finite = background_code(table, bg.v, bg_word);
-    const std::int32_t* const pixel = fb.pixel.data();
-    const float *r = rgb.data(), *g = r + n, *b = g + n;
     std::atomic<bool> bad{false};
-    // Each piece's rows composed and coded into its scratch (compose_range from the fragments that land there).
+    // Each piece's rows composed and coded into its scratch.
     const PngRowSource rows = [&](int y0, int y1, unsigned char* scratch) -> const unsigned char* {
         const std::size_t p0 = std::size_t(y0) * width, p1 = std::size_t(y1) * width;
-        const std::size_t f0 = std::size_t(std::lower_bound(pixel, pixel + n, std::int32_t(p0)) - pixel);
-        const std::size_t f1 = std::size_t(std::lower_bound(pixel + f0, pixel + n, std::int32_t(p1)) - pixel);
         std::size_t nbad = 0;
-        compose_range(pixel, r, g, b, bg.v, p0, p1, f0, f1, PutCoded{table, scratch, bg_finite, bg_word, nbad, p0});
+        compose_pixels(fb, rgb, bg.v, p0, p1, PutCoded{table, scratch, bg_finite, bg_word, nbad, p0});
         if (nbad == 0) return scratch;
         bad = true;
         return nullptr;
@@ -652,12 +658,7 @@ void write_image_composed(const std::string& path, const FragmentBuffer& fb, con
     write_file_atomically(
         path, "image",
         [&](const std::string& tmp, std::string& why) {
-            bool ok = false;
-            {
-                PngWriter png(tmp, fb.width, fb.height, 4, options.png_level, options.png_filter, options.png_mem_level);
-                ok = png.ok() && png.image_in_pieces(rows, options.png_threads, kPngPieceBytes) && png.finish();
-                if (!ok) why = png.error();
-            }
+            const bool ok = write_png_direct(tmp, fb.width, fb.height, 4, nullptr, rows, options, why);
             if (bad) {   // the refusal with compose_image_srgb8_into's message and count
                 Srgb8Image counted;
                 compose_image_srgb8_into(fb, rgb, background, path, counted);

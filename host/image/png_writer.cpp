@@ -79,21 +79,26 @@ struct Piece {
     std::string error;
 };
 
+// Rows [y0, y1) of the image filtered into `out`, one after another: `src` holds rows [from, y1), from = y0 - 1
+// (the row above y0) or from = y0 = 0.
+void filter_rows(const PieceSettings& s, const unsigned char* src, int from, int y0, int y1, unsigned char* out) {
+    for (int y = y0; y < y1; ++y) {
+        const unsigned char* row = src + std::size_t(y - from) * s.row;
+        filter_row(s.up, row, y > 0 ? row - s.row : nullptr, s.row, out + std::size_t(y - y0) * (s.row + 1));
+    }
+}
+
 constexpr std::size_t kWindow = 32768;       // deflate's window: how far back a match reaches
 
 // The last min(32 KB, what there is) filtered bytes before row y0, set as the dictionary of a raw stream that
 // starts at y0: the matches of its first rows reach back as those of one stream do. False if the source stopped.
 bool set_dictionary(z_stream& zs, const PngRowSource& rows, const PieceSettings& s, int y0, unsigned char* scratch,
                     unsigned char* filtered) {
-    const std::size_t frow = s.row + 1;
     const int d = std::min(y0, s.dictionary_rows), from = std::max(0, y0 - d - 1);
     const unsigned char* src = rows(from, y0, scratch);
     if (!src) return false;
-    for (int y = y0 - d; y < y0; ++y) {
-        const unsigned char* cur = src + std::size_t(y - from) * s.row;
-        filter_row(s.up, cur, y > 0 ? cur - s.row : nullptr, s.row, filtered + std::size_t(y - (y0 - d)) * frow);
-    }
-    const std::size_t have = std::size_t(d) * frow, n = std::min(have, kWindow);
+    filter_rows(s, src, from, y0 - d, y0, filtered);
+    const std::size_t have = std::size_t(d) * (s.row + 1), n = std::min(have, kWindow);
     return deflateSetDictionary(&zs, filtered + have - n, uInt(n)) == Z_OK;
 }
 
@@ -123,10 +128,7 @@ bool deflate_piece(const PngRowSource& rows, const PieceSettings& s, int y0, int
         const int e = std::min(y1, y + s.batch_rows), from = std::max(0, y - 1);
         const unsigned char* src = rows(from, e, scratch.get());
         if (!src) return false;
-        for (int k = y; k < e; ++k) {
-            const unsigned char* cur = src + std::size_t(k - from) * s.row;
-            filter_row(s.up, cur, k > 0 ? cur - s.row : nullptr, s.row, filtered.get() + std::size_t(k - y) * frow);
-        }
+        filter_rows(s, src, from, y, e, filtered.get());
         const std::size_t n = std::size_t(e - y) * frow;
         piece.adler = adler32(piece.adler, filtered.get(), uInt(n));
         zs.next_in = filtered.get();
